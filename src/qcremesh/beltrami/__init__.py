@@ -1,0 +1,1 @@
+"""Layer 3: Beltrami coefficients, the linear Beltrami solver and Teichmueller maps."""

@@ -1,0 +1,203 @@
+"""Reading and writing triangle meshes.
+
+Every format meshio knows is read through meshio (OBJ, PLY, OFF, STL, VTK/VTU, ...);
+MATLAB ``.mat`` files with variables ``v`` and ``f`` (1-based), as distributed with the
+public quasi-conformal codes, are read through :func:`scipy.io.loadmat`.  OBJ is written
+here (so it can carry texture coordinates as ``f a/a b/b c/c`` and so the bytes do not
+depend on the time of day); every other output format goes through meshio.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["MeshReadError", "read_mesh", "write_mesh"]
+
+
+class MeshReadError(ValueError):
+    """The file cannot be read as a triangle mesh."""
+
+
+def read_mesh(path, *, return_data=False):
+    """Read a triangle mesh.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        File to read. The format is chosen by the extension.
+    return_data : bool, optional
+        Also return the per-vertex data stored in the file (colours, scalars,
+        texture coordinates) as a dict of arrays with ``n`` rows.
+
+    Returns
+    -------
+    V : (n, 3) float64
+        Vertex positions (a planar mesh gets z = 0).
+    F : (m, 3) int64
+        Triangles, 0-based indices into ``V``.
+    data : dict of str to ndarray
+        Only when ``return_data`` is true.
+
+    Raises
+    ------
+    MeshReadError
+        The file is missing, unreadable, or holds no triangles (or holds other polygons).
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise MeshReadError(f"{path}: no such file")
+    if path.suffix.lower() == ".mat":
+        V, F, data = _read_mat(path)
+    else:
+        V, F, data = _read_meshio(path)
+    V = np.ascontiguousarray(V, dtype=np.float64)
+    if V.ndim != 2 or V.shape[1] not in (2, 3):
+        raise MeshReadError(f"{path}: vertices must have 2 or 3 coordinates")
+    if V.shape[1] == 2:
+        V = np.column_stack([V, np.zeros(len(V))])
+    F = np.ascontiguousarray(F, dtype=np.int64)
+    if len(F) == 0:
+        raise MeshReadError(f"{path}: no triangles in the file")
+    if F.min() < 0 or F.max() >= len(V):
+        raise MeshReadError(f"{path}: face indices out of range")
+    if not np.all(np.isfinite(V)):
+        raise MeshReadError(f"{path}: non-finite vertex coordinates")
+    return (V, F, data) if return_data else (V, F)
+
+
+def _read_meshio(path):
+    import meshio
+
+    try:
+        m = meshio.read(path)
+    except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
+        raise MeshReadError(f"{path}: cannot read ({exc})") from exc
+    tri = [c.data for c in m.cells if c.type == "triangle"]
+    other = sorted({c.type for c in m.cells if c.type not in ("triangle", "vertex", "line")})
+    if other:
+        raise MeshReadError(f"{path}: not a triangle mesh (has {', '.join(other)} cells)")
+    if not tri:
+        raise MeshReadError(f"{path}: no triangles in the file")
+    data = {}
+    for name, arr in m.point_data.items():
+        arr = np.asarray(arr)
+        if len(arr) == len(m.points):
+            data[name] = arr
+    if "texture_u" in data and "texture_v" in data:
+        data["uv"] = np.column_stack([data.pop("texture_u"), data.pop("texture_v")])
+    if "obj:vt" in data:
+        data["uv"] = np.asarray(data.pop("obj:vt"))[:, :2]
+    return m.points, np.concatenate(tri), data
+
+
+def _read_mat(path):
+    from scipy.io import loadmat
+
+    try:
+        d = loadmat(path)
+    except Exception as exc:
+        raise MeshReadError(f"{path}: cannot read ({exc})") from exc
+    if "v" not in d or "f" not in d:
+        raise MeshReadError(f"{path}: a .mat mesh needs variables 'v' and 'f'")
+    V = np.asarray(d["v"], dtype=np.float64)
+    F = np.asarray(d["f"], dtype=np.int64) - 1
+    if F.ndim != 2 or F.shape[1] != 3:
+        raise MeshReadError(f"{path}: 'f' must be an (m, 3) array")
+    data = {
+        k: np.asarray(val).ravel()
+        for k, val in d.items()
+        if not k.startswith("__") and k not in ("v", "f") and np.size(val) == len(V)
+    }
+    return V, F, data
+
+
+def write_mesh(path, V, F, *, uv=None, data=None):
+    """Write a triangle mesh, atomically.
+
+    The file appears only once it is complete: it is written to a temporary file in the
+    same folder and renamed, so a failure never leaves a partial output.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Output file; the format is chosen by the extension (``.obj`` is written here,
+        anything else through meshio).
+    V : (n, 3) or (n, 2) array_like
+        Vertex positions.
+    F : (m, 3) array_like of int
+        Triangles, 0-based.
+    uv : (n, 2) array_like, optional
+        Texture coordinates, one per vertex. In OBJ they become ``vt`` lines with the
+        vertex's index and faces ``f a/a b/b c/c``; in other formats point data
+        ``texture_u`` and ``texture_v``.
+    data : dict of str to (n,) or (n, k) array_like, optional
+        Further per-vertex data (ignored by OBJ).
+    """
+    path = Path(path)
+    V = np.asarray(V, dtype=np.float64)
+    F = np.asarray(F, dtype=np.int64)
+    if V.ndim != 2 or V.shape[1] not in (2, 3):
+        raise ValueError(f"V must be (n, 3), got shape {V.shape}")
+    if F.ndim != 2 or F.shape[1] != 3:
+        raise ValueError(f"F must be (m, 3), got shape {F.shape}")
+    if uv is not None:
+        uv = np.asarray(uv, dtype=np.float64)
+        if uv.shape != (len(V), 2):
+            raise ValueError(f"uv must be ({len(V)}, 2), got shape {uv.shape}")
+    suffix = path.suffix.lower()
+    fd, tmp = tempfile.mkstemp(suffix=suffix, prefix=".tmp-", dir=path.parent if str(path.parent) else ".")
+    os.close(fd)
+    try:
+        if suffix == ".obj":
+            _write_obj(tmp, V, F, uv)
+        else:
+            _write_meshio(tmp, V, F, uv, data)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def _write_obj(path, V, F, uv):
+    parts = []
+    if V.shape[1] == 2:
+        V = np.column_stack([V, np.zeros(len(V))])
+    parts.append(_format_rows("v", V))
+    if uv is None:
+        parts.append(_format_rows("f", F + 1, integer=True))
+    else:
+        parts.append(_format_rows("vt", uv))
+        idx = np.repeat(F + 1, 2, axis=1)
+        parts.append(_format_rows("f", idx, integer=True, pairs=True))
+    with open(path, "w") as fh:
+        fh.write("".join(parts))
+
+
+def _format_rows(tag, A, integer=False, pairs=False):
+    if len(A) == 0:
+        return ""
+    if integer:
+        cols = A.shape[1] // 2 if pairs else A.shape[1]
+        cell = "{}/{}" if pairs else "{}"
+        fmt = tag + (" " + cell) * cols + "\n"
+    else:
+        fmt = tag + " {!r}" * A.shape[1] + "\n"
+    return (fmt * len(A)).format(*A.ravel().tolist())
+
+
+def _write_meshio(path, V, F, uv, data):
+    import meshio
+
+    point_data = {k: np.asarray(v) for k, v in (data or {}).items()}
+    if uv is not None:
+        point_data["texture_u"] = uv[:, 0]
+        point_data["texture_v"] = uv[:, 1]
+    mesh = meshio.Mesh(V, [("triangle", F)], point_data=point_data)
+    try:
+        meshio.write(path, mesh)
+    except Exception as exc:
+        raise ValueError(f"cannot write {Path(path).suffix} files ({exc})") from exc

@@ -1,0 +1,146 @@
+"""Checks that a triangle mesh is what an algorithm needs, with one-line errors.
+
+Each kind of defect has its own exception class, all subclasses of :class:`MeshError`
+(itself a :class:`ValueError`), and its message names the defect and where it is, e.g.
+``"3 boundary loops, a disk has 1"`` or ``"2 non-manifold edges at vertices 4-7, 9-12"``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import topology
+
+__all__ = [
+    "MeshError",
+    "InvalidIndexError",
+    "UnreferencedVertexError",
+    "DegenerateFaceError",
+    "NonManifoldError",
+    "OrientationError",
+    "TopologyError",
+    "check_triangle_mesh",
+    "check_disk",
+]
+
+
+class MeshError(ValueError):
+    """The mesh cannot be processed as it is."""
+
+
+class InvalidIndexError(MeshError):
+    """Face array of the wrong shape or with indices out of range."""
+
+
+class UnreferencedVertexError(MeshError):
+    """Vertices that no face uses."""
+
+
+class DegenerateFaceError(MeshError):
+    """Faces with a repeated vertex or zero area."""
+
+
+class NonManifoldError(MeshError):
+    """Edges with more than two faces, or vertices whose faces form several fans."""
+
+
+class OrientationError(MeshError):
+    """Neighbouring faces with opposite orientations."""
+
+
+class TopologyError(MeshError):
+    """Wrong number of components or boundary loops, or wrong genus."""
+
+
+def _some(items, k=5):
+    items = list(items)
+    head = ", ".join(items[:k])
+    return head + (f", ... ({len(items) - k} more)" if len(items) > k else "")
+
+
+def _plural(n, word):
+    return f"{n} {word}" + ("" if n == 1 else "s")
+
+
+def check_triangle_mesh(V, F):
+    """Check a mesh for the defects every algorithm here rejects.
+
+    Indices in range, every vertex used, no degenerate face, edge- and vertex-manifold,
+    consistently oriented. Raises the matching :class:`MeshError` subclass on the first
+    defect found, in that order.
+
+    Parameters
+    ----------
+    V : (n, 3) float
+    F : (m, 3) int
+    """
+    V = np.asarray(V)
+    F = np.asarray(F)
+    if F.ndim != 2 or F.shape[1] != 3 or len(F) == 0:
+        raise InvalidIndexError(f"faces must be a non-empty (m, 3) array, got shape {F.shape}")
+    if V.ndim != 2 or V.shape[1] not in (2, 3):
+        raise InvalidIndexError(f"vertices must be an (n, 3) array, got shape {V.shape}")
+    if not np.issubdtype(F.dtype, np.integer):
+        raise InvalidIndexError(f"face indices must be integers, got {F.dtype}")
+    if F.min() < 0 or F.max() >= len(V):
+        raise InvalidIndexError(f"face indices must lie in 0..{len(V) - 1}, found {F.min()}..{F.max()}")
+    if not np.all(np.isfinite(V)):
+        raise InvalidIndexError("vertex coordinates must be finite")
+    unref = topology.unreferenced_vertices(F, len(V))
+    if len(unref):
+        raise UnreferencedVertexError(
+            f"{_plural(len(unref), 'unreferenced vertex')}: {_some(map(str, unref))}".replace(
+                "vertexs", "vertices"
+            )
+        )
+    degen = topology.degenerate_faces(V, F)
+    if len(degen):
+        raise DegenerateFaceError(
+            f"{_plural(len(degen), 'degenerate face')} (zero area): {_some(map(str, degen))}"
+        )
+    bad_edges = topology.nonmanifold_edges(F)
+    if len(bad_edges):
+        where = _some(f"{a}-{b}" for a, b in bad_edges)
+        raise NonManifoldError(f"{_plural(len(bad_edges), 'non-manifold edge')} at vertices {where}")
+    pinched = topology.nonmanifold_vertices(F)
+    if len(pinched):
+        raise NonManifoldError(
+            f"{_plural(len(pinched), 'non-manifold vertex')} (faces in several fans): "
+            f"{_some(map(str, pinched))}".replace("vertexs", "vertices")
+        )
+    flipped = topology.inconsistent_edges(F)
+    if len(flipped):
+        where = _some(f"{a}-{b}" for a, b in flipped)
+        raise OrientationError(
+            f"faces are not consistently oriented: {_plural(len(flipped), 'edge')} "
+            f"traversed twice in the same direction, at vertices {where}"
+        )
+
+
+def check_disk(V, F):
+    """Check that a mesh is a topological disk, as a disk parameterization needs.
+
+    A disk is one manifold, consistently oriented component with exactly one boundary
+    loop and Euler characteristic 1 (genus 0). The checks of
+    :func:`check_triangle_mesh` come first.
+
+    Raises
+    ------
+    MeshError
+        A subclass naming the first defect, e.g. ``TopologyError("3 boundary loops, a
+        disk has 1")`` or ``TopologyError("genus 1 (Euler characteristic -1), a disk has
+        genus 0")``.
+    """
+    check_triangle_mesh(V, F)
+    ncomp, _ = topology.connected_components(F, len(V))
+    if ncomp != 1:
+        raise TopologyError(f"{ncomp} connected components, a disk has 1")
+    loops = topology.boundary_loops(F)
+    if len(loops) == 0:
+        raise TopologyError("closed surface (no boundary), a disk has 1 boundary loop")
+    if len(loops) != 1:
+        raise TopologyError(f"{len(loops)} boundary loops, a disk has 1")
+    chi = topology.euler_characteristic(F)
+    if chi != 1:
+        genus = (2 - chi - len(loops)) // 2
+        raise TopologyError(f"genus {genus} (Euler characteristic {chi}), a disk has genus 0")

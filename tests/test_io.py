@@ -1,0 +1,86 @@
+import numpy as np
+import pytest
+
+from conftest import DATA, SHARED, grid_disk
+from qcremesh.mesh.io import MeshReadError, read_mesh, write_mesh
+
+
+def test_read_bundled_formats():
+    V, F = read_mesh(DATA / "human_face.obj")
+    assert V.shape == (17157, 3) and F.shape == (34144, 3)
+    assert V.dtype == np.float64 and F.dtype == np.int64
+    V, F, data = read_mesh(DATA / "fran_cut.ply", return_data=True)
+    assert V.shape == (2205, 3) and F.shape == (4224, 3)
+    assert data["uv"].shape == (2205, 2)
+    V, F = read_mesh(DATA / "featuretype.STL")
+    assert V.shape == (2010, 3) and F.shape == (3476, 3)
+
+
+@pytest.mark.parametrize("ext", [".obj", ".ply", ".off", ".stl", ".vtk", ".vtu"])
+def test_round_trip(tmp_path, ext):
+    uv, F = grid_disk(6)
+    V = np.column_stack([uv, uv[:, 0] * uv[:, 1]])
+    path = tmp_path / f"m{ext}"
+    write_mesh(path, V, F)
+    V2, F2 = read_mesh(path)
+    if ext == ".stl":  # a triangle soup: compare the triangles' corner positions
+        np.testing.assert_allclose(V2[F2], V[F], atol=1e-6)
+    else:
+        np.testing.assert_allclose(V2, V, atol=1e-6 if ext == ".stl" else 1e-12)
+        np.testing.assert_array_equal(F2, F)
+
+
+def test_obj_with_texture_coordinates(tmp_path):
+    uv, F = grid_disk(4)
+    V = np.column_stack([uv, np.zeros(len(uv))])
+    path = tmp_path / "t.obj"
+    write_mesh(path, V, F, uv=uv * 0.5)
+    lines = path.read_text().splitlines()
+    v = [l for l in lines if l.startswith("v ")]
+    vt = [l for l in lines if l.startswith("vt ")]
+    f = [l for l in lines if l.startswith("f ")]
+    assert len(v) == len(V) and len(vt) == len(V) and len(f) == len(F)
+    a, b, c = F[0] + 1
+    assert f[0] == f"f {a}/{a} {b}/{b} {c}/{c}"
+    assert np.allclose([float(x) for x in vt[1].split()[1:]], uv[1] * 0.5)
+    V2, F2, data = read_mesh(path, return_data=True)
+    np.testing.assert_array_equal(F2, F)
+    np.testing.assert_allclose(data["uv"], uv * 0.5)
+
+
+def test_obj_bytes_are_deterministic(tmp_path):
+    uv, F = grid_disk(5)
+    V = np.column_stack([uv, uv[:, 0] ** 2])
+    write_mesh(tmp_path / "a.obj", V, F, uv=uv)
+    write_mesh(tmp_path / "b.obj", V, F, uv=uv)
+    assert (tmp_path / "a.obj").read_bytes() == (tmp_path / "b.obj").read_bytes()
+
+
+def test_failed_write_leaves_no_file(tmp_path):
+    uv, F = grid_disk(4)
+    with pytest.raises(ValueError, match="cannot write .xyz files"):
+        write_mesh(tmp_path / "m.xyz", np.column_stack([uv, 0 * uv[:, 0]]), F)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_read_errors(tmp_path):
+    with pytest.raises(MeshReadError, match="no such file"):
+        read_mesh(tmp_path / "missing.obj")
+    quad = tmp_path / "quad.obj"
+    quad.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n")
+    with pytest.raises(MeshReadError, match="not a triangle mesh"):
+        read_mesh(quad)
+    junk = tmp_path / "junk.ply"
+    junk.write_text("not a ply file\n")
+    with pytest.raises(MeshReadError, match="cannot read"):
+        read_mesh(junk)
+
+
+def test_read_mat():
+    path = SHARED / "alex_3.mat"
+    if not path.is_file():
+        pytest.skip("needs ../shared/data")
+    V, F = read_mesh(path)
+    V2, F2 = read_mesh(SHARED / "alex_3.ply")
+    np.testing.assert_array_equal(F, F2)
+    np.testing.assert_allclose(V, V2)

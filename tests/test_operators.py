@@ -1,0 +1,57 @@
+import numpy as np
+
+from conftest import DATA, grid_disk
+from qcremesh.geometry.operators import (
+    cotmatrix,
+    doublearea,
+    face_gradients,
+    signed_doublearea,
+    uniform_laplacian,
+)
+from qcremesh.mesh.io import read_mesh
+from qcremesh.mesh.topology import boundary_loop
+
+
+def test_areas():
+    uv = np.array([[0, 0], [2, 0], [0, 1]], float)
+    F = np.array([[0, 1, 2], [0, 2, 1]])
+    np.testing.assert_allclose(signed_doublearea(uv, F), [2, -2])
+    np.testing.assert_allclose(doublearea(uv, F), [2, 2])
+    np.testing.assert_allclose(doublearea(np.column_stack([uv, uv[:, 0]]), F[:1]), [2 * np.sqrt(2)])
+
+
+def test_face_gradients_of_linear_function():
+    uv, F = grid_disk(6, jitter=0.3)
+    g = 3 * uv[:, 0] - 2 * uv[:, 1] + 1
+    Dx, Dy = face_gradients(uv, F)
+    np.testing.assert_allclose((Dx * g[F]).sum(1), 3)
+    np.testing.assert_allclose((Dy * g[F]).sum(1), -2)
+
+
+def test_cotmatrix_equilateral_and_linear_precision():
+    V = np.array([[0, 0], [1, 0], [0.5, np.sqrt(3) / 2]])
+    L = cotmatrix(V, np.array([[0, 1, 2]])).toarray()
+    c = 0.5 / np.sqrt(3)
+    np.testing.assert_allclose(L, [[-2 * c, c, c], [c, -2 * c, c], [c, c, -2 * c]])
+    uv, F = grid_disk(7, jitter=0.3)
+    L = cotmatrix(uv, F)
+    inner = np.setdiff1d(np.arange(len(uv)), boundary_loop(F))
+    np.testing.assert_allclose((L @ uv)[inner], 0, atol=1e-12)  # linear precision
+    np.testing.assert_allclose(np.asarray(L.sum(1)).ravel(), 0, atol=1e-12)
+
+
+def test_cotmatrix_dirichlet_energy_matches_area_on_surface():
+    V, F = read_mesh(DATA / "fran_cut.ply")
+    L = cotmatrix(V, F)
+    assert abs(L - L.T).max() < 1e-12
+    # -x^T L x = integral of |grad x|^2; summed over the coordinates of the embedding it
+    # is the trace of the identity on the tangent plane (2) times the area
+    energy = -sum(V[:, k] @ (L @ V[:, k]) for k in range(3))
+    np.testing.assert_allclose(energy, doublearea(V, F).sum(), rtol=1e-10)
+
+
+def test_uniform_laplacian():
+    F = np.array([[0, 1, 2], [2, 1, 3]])
+    L = uniform_laplacian(F).toarray()
+    np.testing.assert_array_equal(np.diag(L), [-2, -3, -3, -2])
+    assert L[0, 1] == 1 and L[0, 3] == 0

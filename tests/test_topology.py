@@ -1,0 +1,65 @@
+import numpy as np
+
+from conftest import grid_disk
+from qcremesh.mesh import topology as t
+
+
+def test_edges_and_counts():
+    F = np.array([[0, 1, 2], [2, 1, 3]])
+    E, c = t.edge_face_counts(F)
+    np.testing.assert_array_equal(E, [[0, 1], [0, 2], [1, 2], [1, 3], [2, 3]])
+    np.testing.assert_array_equal(c, [1, 1, 2, 1, 1])
+    np.testing.assert_array_equal(t.edges(F), E)
+
+
+def test_boundary_loop_of_grid_is_ccw_and_ordered():
+    uv, F = grid_disk(6)
+    (loop,) = t.boundary_loops(F)
+    assert len(loop) == 20 and loop[0] == loop.min()
+    z = uv[loop, 0] + 1j * uv[loop, 1]
+    signed = 0.5 * np.sum((np.conj(z) * np.roll(z, -1)).imag)
+    assert signed > 0  # counter-clockwise
+    assert np.allclose(np.abs(np.diff(np.r_[z, z[0]])), 0.2)  # consecutive neighbours
+
+
+def test_boundary_loops_with_holes():
+    uv, F = grid_disk(9)
+    centers = uv[F].mean(1)
+    hole = lambda c, r: np.linalg.norm(centers - c, axis=1) < r
+    F = F[~(hole([0.3, 0.3], 0.1) | hole([0.7, 0.7], 0.1))]
+    loops = t.boundary_loops(F)
+    assert len(loops) == 3
+    assert sum(len(l) for l in loops) == len(t.boundary_edges(F))
+    assert t.euler_characteristic(F) == -1
+
+
+def test_components_and_euler():
+    F = np.array([[0, 1, 2], [3, 4, 5], [3, 5, 6]])
+    count, label = t.connected_components(F)
+    assert count == 2
+    np.testing.assert_array_equal(label, [0, 1, 1])
+    assert t.euler_characteristic(F) == 2
+
+
+def test_nonmanifold_edge_and_vertex():
+    fin = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])
+    np.testing.assert_array_equal(t.nonmanifold_edges(fin), [[0, 1]])
+    bowtie = np.array([[0, 1, 2], [0, 3, 4]])
+    np.testing.assert_array_equal(t.nonmanifold_vertices(bowtie), [0])
+    uv, F = grid_disk(5)
+    assert len(t.nonmanifold_vertices(F)) == 0 and len(t.nonmanifold_edges(F)) == 0
+
+
+def test_orientation_unreferenced_degenerate():
+    F = np.array([[0, 1, 2], [1, 2, 3]])
+    np.testing.assert_array_equal(t.inconsistent_edges(F), [[1, 2]])
+    assert len(t.inconsistent_edges(np.array([[0, 1, 2], [2, 1, 3]]))) == 0
+    np.testing.assert_array_equal(t.unreferenced_vertices(F, 6), [4, 5])
+    V = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0]], float)
+    np.testing.assert_array_equal(t.degenerate_faces(V, np.array([[0, 1, 2], [0, 1, 3], [0, 0, 3]])), [0, 2])
+
+
+def test_adjacency_matrix():
+    F = np.array([[0, 1, 2], [2, 1, 3]])
+    A = t.adjacency_matrix(F).toarray()
+    assert (A == A.T).all() and A.sum() == 10 and A[0, 3] == 0

@@ -1,0 +1,87 @@
+import numpy as np
+import pytest
+
+from conftest import DATA, grid_disk, shared
+from qcremesh.mesh import validate as v
+from qcremesh.mesh.io import read_mesh
+
+
+def lift(uv):
+    return np.column_stack([uv, np.zeros(len(uv))])
+
+
+def test_disk_passes():
+    uv, F = grid_disk(6)
+    v.check_disk(lift(uv), F)
+
+
+@pytest.mark.parametrize(
+    "mesh, error, message",
+    [
+        ("alex_3.ply", v.TopologyError, "4 boundary loops, a disk has 1"),
+        ("featuretype.STL", v.TopologyError, "16 boundary loops, a disk has 1"),
+    ],
+)
+def test_bundled_hard_cases(mesh, error, message):
+    V, F = read_mesh(DATA / mesh)
+    with pytest.raises(error) as exc:
+        v.check_disk(V, F)
+    assert str(exc.value) == message
+
+
+@pytest.mark.parametrize(
+    "mesh, error, message",
+    [
+        ("decimated-max.obj", v.TopologyError, "closed surface (no boundary), a disk has 1 boundary loop"),
+        ("Hand1.off", v.TopologyError, "genus 1 (Euler characteristic -1), a disk has genus 0"),
+        (
+            "face-YH.off",
+            v.NonManifoldError,
+            "3 non-manifold edges at vertices 44042-44089, 44042-54138, 44089-54138",
+        ),
+    ],
+)
+def test_shared_hard_cases(mesh, error, message):
+    V, F = read_mesh(shared(mesh))
+    with pytest.raises(error) as exc:
+        v.check_disk(V, F)
+    assert str(exc.value) == message
+
+
+def test_each_defect_message():
+    uv, F = grid_disk(4)
+    V = lift(uv)
+    with pytest.raises(v.InvalidIndexError, match=r"face indices must lie in 0\.\.15, found 0\.\.16"):
+        v.check_disk(V, np.r_[F, [[0, 1, 16]]])
+    with pytest.raises(v.UnreferencedVertexError) as e:
+        v.check_disk(np.r_[V, [[5, 5, 5], [6, 6, 6]]], F)
+    assert str(e.value) == "2 unreferenced vertices: 16, 17"
+    Vd = V.copy()
+    Vd[5] = (Vd[4] + Vd[6]) / 2  # collinear with its neighbours in a row
+    Fd = np.r_[F, [[4, 5, 6]]]
+    with pytest.raises(v.MeshError):
+        v.check_disk(Vd, Fd)
+    with pytest.raises(v.DegenerateFaceError) as e:
+        v.check_triangle_mesh(V, np.r_[F, [[0, 0, 1]]])
+    assert str(e.value) == f"1 degenerate face (zero area): {len(F)}"
+    middle = np.argmin(np.linalg.norm(uv[F].mean(1) - 0.5, axis=1))
+    a, b = sorted(F[middle, :2])
+    with pytest.raises(v.NonManifoldError) as e:
+        v.check_triangle_mesh(np.r_[V, [[0.1, 0.1, 1.0]]], np.r_[F, [[a, b, 16]]])
+    assert str(e.value) == f"1 non-manifold edge at vertices {a}-{b}"
+    flipped = F.copy()
+    flipped[middle] = flipped[middle, ::-1]
+    with pytest.raises(v.OrientationError, match="faces are not consistently oriented: 3 edges"):
+        v.check_triangle_mesh(V, flipped)
+    two = np.r_[F, F + 16]
+    with pytest.raises(v.TopologyError) as e:
+        v.check_disk(np.r_[V, V + 2], two)
+    assert str(e.value) == "2 connected components, a disk has 1"
+
+
+def test_bowtie_message():
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]], float)
+    F = np.array([[0, 1, 2], [0, 3, 4]])
+    with pytest.raises(v.NonManifoldError) as e:
+        v.check_disk(V, F)
+    assert str(e.value) == "1 non-manifold vertex (faces in several fans): 0"
