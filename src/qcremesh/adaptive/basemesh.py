@@ -1,0 +1,88 @@
+"""Base mesh of the landmarks and its subdivision levels in the disk (Algorithm 2)."""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import Delaunay
+
+from ..geometry.operators import signed_doublearea
+from ..mesh.subdivide import upsample
+from ..mesh.topology import boundary_edges
+
+__all__ = ["delaunay_disk_mesh", "subdivide_disk_mesh", "hexagonal_disk_points"]
+
+
+def delaunay_disk_mesh(theta, interior):
+    """Delaunay triangulation of boundary points on the unit circle and interior points.
+
+    Every point of the circle is extreme, so the triangulation covers the inscribed
+    polygon of the boundary points exactly and its boundary loop is that polygon.
+
+    Parameters
+    ----------
+    theta : (b,) float
+        Increasing angles of the boundary points.
+    interior : (k, 2) float
+        Points strictly inside the disk.
+
+    Returns
+    -------
+    uv : (b + k, 2) float
+        The boundary points first, in the order of ``theta``.
+    F : (m, 3) int64
+        Counter-clockwise triangles.
+    """
+    uv = np.concatenate([np.column_stack([np.cos(theta), np.sin(theta)]), np.asarray(interior).reshape(-1, 2)])
+    F = Delaunay(uv).simplices.astype(np.int64)
+    cw = signed_doublearea(uv, F) < 0
+    F[cw] = F[cw][:, ::-1]
+    return uv, F
+
+
+def subdivide_disk_mesh(uv, F, levels):
+    """Midpoint subdivision of a disk mesh, ``levels`` times, with the new boundary
+    vertices moved onto the unit circle (along the bisector of their edge).
+
+    Parameters
+    ----------
+    uv : (n, 2) float
+        A mesh of the disk whose boundary vertices lie on the unit circle.
+    F : (m, 3) int
+    levels : int
+
+    Returns
+    -------
+    list of (uv, F)
+        Level 0 (the input) to level ``levels``; the vertices of each level are the first
+        vertices of the next, and face ``f`` of a level is split into faces ``4f .. 4f+3``
+        of the next (the semi-regular structure).
+    """
+    out = [(np.asarray(uv, dtype=np.float64), np.asarray(F, dtype=np.int64))]
+    for _ in range(levels):
+        uv, F = out[-1]
+        n = len(uv)
+        uv2, F2 = upsample(uv, F, 1)
+        on_circle = np.zeros(len(uv2), dtype=bool)
+        on_circle[boundary_edges(F2).ravel()] = True
+        new = on_circle.copy()
+        new[:n] = False
+        uv2[new] /= np.linalg.norm(uv2[new], axis=1, keepdims=True)
+        out.append((uv2, F2))
+    return out
+
+
+def hexagonal_disk_points(spacing):
+    """Points of a hexagonal lattice with the given spacing inside the unit disk, at least
+    half a spacing away from the circle (the interior of a uniform disk mesh).
+
+    Returns
+    -------
+    (k, 2) float
+    """
+    rows = np.arange(-np.ceil(1 / spacing), np.ceil(1 / spacing) + 1)
+    dy = spacing * np.sqrt(3) / 2
+    j, i = np.meshgrid(rows, np.arange(-np.ceil(1 / dy), np.ceil(1 / dy) + 1))
+    x = (j + 0.5 * (i % 2)) * spacing
+    y = i * dy
+    P = np.column_stack([x.ravel(), y.ravel()])
+    return P[np.hypot(P[:, 0], P[:, 1]) < 1 - 0.5 * spacing]

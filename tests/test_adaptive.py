@@ -1,0 +1,110 @@
+import numpy as np
+import pytest
+
+from conftest import DATA
+from qcremesh.adaptive.basemesh import delaunay_disk_mesh, hexagonal_disk_points, subdivide_disk_mesh
+from qcremesh.adaptive.density import area_distortion, vertex_density
+from qcremesh.adaptive.landmarks import (
+    boundary_angles,
+    boundary_corners,
+    boundary_landmarks,
+    cvt_landmarks,
+    interpolate_on_boundary,
+)
+from qcremesh.geometry.operators import doublearea, signed_doublearea
+from qcremesh.mesh.io import read_mesh
+from qcremesh.mesh.topology import boundary_loops, euler_characteristic
+from qcremesh.param.disk import disk_conformal_map
+
+
+@pytest.fixture(scope="module")
+def face():
+    V, F = read_mesh(DATA / "human_face.obj")
+    return V, F, disk_conformal_map(V, F)
+
+
+def test_density_of_scaled_copy():
+    uv = np.array([[0, 0], [1, 0], [0, 1], [1, 1.0]])
+    F = np.array([[0, 1, 2], [1, 3, 2]])
+    V = np.column_stack([3 * uv, np.zeros(4)])
+    np.testing.assert_allclose(area_distortion(uv, F, V), 9)
+    np.testing.assert_allclose(vertex_density(uv, F, V), 9)
+
+
+def test_density_integrates_to_surface_area(face):
+    V, F, dm = face
+    rho = area_distortion(dm.uv, F, V)
+    np.testing.assert_allclose((rho * doublearea(dm.uv, F)).sum(), doublearea(V, F).sum())
+    assert np.all(vertex_density(dm.uv, F, V) > 0)
+
+
+def test_interpolate_on_boundary_hits_polyline(face):
+    V, F, dm = face
+    bnd = dm.boundary
+    theta_b = boundary_angles(dm.uv, bnd)
+    assert np.all(np.diff(theta_b) > 0) and theta_b[-1] - theta_b[0] < 2 * np.pi
+    np.testing.assert_allclose(interpolate_on_boundary(theta_b, V[bnd], theta_b), V[bnd], atol=1e-12)
+    mid = (theta_b[3] + theta_b[4]) / 2
+    np.testing.assert_allclose(interpolate_on_boundary(theta_b, V[bnd], [mid + 4 * np.pi])[0], (V[bnd[3]] + V[bnd[4]]) / 2)
+
+
+def test_boundary_landmarks_uniform_in_arc_length():
+    # a square of side 1 drawn with 40 boundary vertices, disk angles deliberately uneven
+    t = np.linspace(0, 4, 41)[:-1]
+    side, f = np.divmod(t, 1)
+    corners = np.array([[0, 0], [1, 0], [1, 1], [0, 1]])
+    P = corners[side.astype(int)] + f[:, None] * (corners[(side.astype(int) + 1) % 4] - corners[side.astype(int)])
+    V = np.column_stack([P, np.zeros(40)])
+    theta = 2 * np.pi * (np.arange(40) / 40) ** 1.3
+    uv = np.column_stack([np.cos(theta), np.sin(theta)])
+    bnd = np.arange(40)
+    np.testing.assert_array_equal(boundary_corners(V, bnd), [0, 10, 20, 30])
+    th, is_corner = boundary_landmarks(V, uv, bnd, 8)
+    assert len(th) == 8 and is_corner.sum() == 4
+    X = interpolate_on_boundary(boundary_angles(uv, bnd), V[bnd], th)
+    np.testing.assert_allclose(np.linalg.norm(np.roll(X, -1, 0) - X, axis=1), 0.5, atol=1e-12)
+    for c in corners:
+        assert np.min(np.linalg.norm(X[:, :2] - c, axis=1)) < 1e-12
+
+
+def test_cvt_landmarks_are_uniform_on_surface(face):
+    """A CVT with weight rho^2 spreads landmarks uniformly on the surface; with weight rho
+    (Eq. 21 as printed) they are markedly less uniform."""
+    V, F, dm = face
+    rho = vertex_density(dm.uv, F, V)
+    area = np.bincount(F.ravel(), weights=np.repeat(doublearea(V, F) / 6, 3), minlength=len(V))
+    circle = np.column_stack([np.cos(np.linspace(0, 2 * np.pi, 40, endpoint=False)), np.sin(np.linspace(0, 2 * np.pi, 40, endpoint=False))])
+    good = cvt_landmarks(dm.uv, area, circle, 300, weight=rho * area, iterations=40)
+    naive = cvt_landmarks(dm.uv, area, circle, 300, weight=area, iterations=40)  # weight rho
+    assert good.points.shape == (300, 2)
+    assert np.all(np.hypot(*good.points.T) < 1)
+    assert good.uniformity < 0.25
+    assert good.uniformity < 0.6 * naive.uniformity
+    again = cvt_landmarks(dm.uv, area, circle, 300, weight=rho * area, iterations=40)
+    np.testing.assert_array_equal(again.points, good.points)  # deterministic
+
+
+def test_delaunay_disk_mesh_and_subdivision():
+    theta = np.sort(np.random.default_rng(0).uniform(0, 2 * np.pi, 30))
+    r = np.sqrt(np.random.default_rng(1).uniform(0, 0.8, 100))
+    a = np.random.default_rng(2).uniform(0, 2 * np.pi, 100)
+    uv, F = delaunay_disk_mesh(theta, np.column_stack([r * np.cos(a), r * np.sin(a)]))
+    assert np.all(signed_doublearea(uv, F) > 0)
+    (loop,) = boundary_loops(F)
+    assert sorted(loop) == list(range(30)) and euler_characteristic(F) == 1
+    levels = subdivide_disk_mesh(uv, F, 2)
+    assert [len(f) for _, f in levels] == [len(F), 4 * len(F), 16 * len(F)]
+    uv2, F2 = levels[-1]
+    np.testing.assert_array_equal(uv2[: len(uv)], uv)
+    (loop2,) = boundary_loops(F2)
+    assert len(loop2) == 4 * 30
+    np.testing.assert_allclose(np.hypot(*uv2[loop2].T), 1)
+    assert np.all(signed_doublearea(uv2, F2) > 0)
+
+
+def test_hexagonal_points():
+    P = hexagonal_disk_points(0.1)
+    assert np.all(np.hypot(*P.T) < 0.95)
+    d = np.linalg.norm(P[:, None] - P[None], axis=2)
+    np.fill_diagonal(d, 1)
+    np.testing.assert_allclose(d.min(1), 0.1, atol=1e-12)
