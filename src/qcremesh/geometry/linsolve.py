@@ -20,6 +20,23 @@ except ImportError:  # the optional "fast" extra
     _pypardiso = None
 
 
+class _PardisoFactor:
+    """PARDISO Cholesky factor of an SPD matrix; releases MKL's memory when collected
+    (pypardiso itself keeps it until told)."""
+
+    def __init__(self, A):
+        self.upper = sp.triu(A, format="csr")
+        self.upper.sort_indices()
+        self.solver = _pypardiso.PyPardisoSolver(mtype=2)
+        self.solver.factorize(self.upper)
+
+    def __call__(self, B):
+        return self.solver.solve(self.upper, np.ascontiguousarray(B))
+
+    def __del__(self):
+        self.solver.free_memory(everything=True)
+
+
 def solver_backend():
     """Name of the sparse direct solver in use: ``"pardiso"`` or ``"superlu"``."""
     return "pardiso" if _pypardiso is not None else "superlu"
@@ -48,13 +65,7 @@ def spd_solver(A, backend=None):
     if backend == "pardiso":
         if _pypardiso is None:
             raise ImportError("the pardiso backend needs the pypardiso package")
-        upper = sp.triu(A, format="csr")
-        upper.sort_indices()
-        solver = _pypardiso.PyPardisoSolver(mtype=2)
-        solver.factorize(upper)
-
-        def real_solve(B):
-            return solver.solve(upper, np.ascontiguousarray(B))
+        real_solve = _PardisoFactor(A)
 
     elif backend == "superlu":
         lu = spla.splu(
