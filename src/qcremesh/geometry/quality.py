@@ -1,0 +1,199 @@
+"""Triangle quality measures (radius ratio, angles), vertex valences, and a summary of the
+quality, topology and geometric fidelity of a mesh.
+
+The measures are per face and work for planar (n, 2) and spatial (n, 3) vertices.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+from ..mesh.topology import (
+    boundary_edges,
+    edges,
+    euler_characteristic,
+    nonmanifold_edges,
+    nonmanifold_vertices,
+)
+from .distance import hausdorff_distance, polyline_hausdorff_distance
+
+__all__ = [
+    "radius_ratio",
+    "triangle_angles",
+    "min_angle",
+    "vertex_valence",
+    "valence6_fraction",
+    "mesh_quality",
+]
+
+
+def _corners(V, F):
+    """Cross-product norms and dot products of the two edges at every corner, and the
+    lengths of the opposite edges, each (m, 3).
+
+    At corner k of face f, u = V[F[f, k+1]] - V[F[f, k]] and w = V[F[f, k+2]] - V[F[f, k]]
+    (indices mod 3); the edge opposite corner k is w - u.
+    """
+    V = np.asarray(V, dtype=np.float64)
+    P = V[np.asarray(F)]
+    u = np.roll(P, -1, axis=1) - P
+    w = np.roll(P, -2, axis=1) - P
+    if V.shape[1] == 2:
+        cross = np.abs(u[..., 0] * w[..., 1] - u[..., 1] * w[..., 0])
+    else:
+        cross = np.linalg.norm(np.cross(u, w), axis=-1)
+    dot = (u * w).sum(-1)
+    opposite = np.linalg.norm(w - u, axis=-1)
+    return cross, dot, opposite
+
+
+def radius_ratio(V, F):
+    """Radius ratio q = 2 r / R of every face, (m,): 1 for an equilateral triangle, 0 for a
+    degenerate one.
+
+    With r the inradius, R the circumradius and a, b, c the edge lengths,
+
+        q = 2 r / R = (b + c - a)(c + a - b)(a + b - c) / (a b c)
+          = 16 A^2 / ((a + b + c) a b c).
+
+    The second form is evaluated, with twice the area 2A = |u x w| taken at the corner
+    opposite the longest edge (between the two shortest edges), which keeps the area
+    accurate for needles and caps where the first form cancels. Faces with a zero-length
+    edge get 0.
+
+    Parameters
+    ----------
+    V : (n, 2) or (n, 3) float
+    F : (m, 3) int
+
+    Examples
+    --------
+    >>> V = [[0, 0], [1, 0], [0.5, 3 ** 0.5 / 2], [0, 4], [3, 0]]
+    >>> radius_ratio(V, [[0, 1, 2], [0, 4, 3]]).round(12).tolist()
+    [1.0, 0.8]
+    """
+    cross, _, opposite = _corners(V, F)
+    k = np.argmax(opposite, axis=1)[:, None]
+    dbl = np.take_along_axis(cross, k, axis=1)[:, 0]
+    den = opposite.sum(1) * opposite.prod(1)
+    return np.divide(4 * dbl**2, den, out=np.zeros(len(den)), where=den > 0)
+
+
+def triangle_angles(V, F):
+    """Interior angles of every face in radians, (m, 3); column k is the angle at corner
+    ``F[:, k]``.
+
+    The angle between the edges u, w at a corner is atan2(|u x w|, u . w), accurate for
+    angles near 0 and near pi where arccos of the normalized dot product is not. The three
+    angles of a non-degenerate face sum to pi.
+    """
+    cross, dot, _ = _corners(V, F)
+    return np.arctan2(cross, dot)
+
+
+def min_angle(V, F):
+    """Smallest interior angle of every face in radians, (m,); pi/3 for an equilateral
+    triangle, 0 for a degenerate one."""
+    return triangle_angles(V, F).min(1)
+
+
+def vertex_valence(F, n=None):
+    """Number of edges at every vertex, (n,) int64 (0 for unreferenced vertices).
+
+    Parameters
+    ----------
+    F : (m, 3) int
+    n : int, optional
+        Number of vertices; ``F.max() + 1`` by default.
+    """
+    F = np.asarray(F)
+    n = int(F.max()) + 1 if n is None else n
+    return np.bincount(edges(F).ravel(), minlength=n).astype(np.int64)
+
+
+def valence6_fraction(F):
+    """Fraction of the interior vertices (referenced by ``F`` and on no boundary edge)
+    that have valence 6, the valence of a regular triangulation; nan if there are none."""
+    F = np.asarray(F)
+    valence = vertex_valence(F)
+    interior = np.zeros(len(valence), dtype=bool)
+    interior[F.ravel()] = True
+    interior[boundary_edges(F).ravel()] = False
+    if not interior.any():
+        return float("nan")
+    return float(np.mean(valence[interior] == 6))
+
+
+def _number(x):
+    """A python float, or None for nan (JSON has no nan)."""
+    return None if np.isnan(x) else float(x)
+
+
+def mesh_quality(V, F, reference=None):
+    """Summary of the element quality, topology and, given a reference surface, geometric
+    fidelity of a triangle mesh, as a JSON-serializable dict.
+
+    Parameters
+    ----------
+    V : (n, 2) or (n, 3) float
+    F : (m, 3) int
+    reference : tuple (V0, F0), optional
+        The surface the mesh approximates (e.g. the input of a remeshing).
+
+    Returns
+    -------
+    dict
+        ``faces``, ``vertices``: counts (``len(F)``, ``len(V)``).
+        ``q_mean``, ``q_min``, ``q_p01``: mean, minimum and 1st percentile of the radius
+        ratio (:func:`radius_ratio`); ``q_frac_above_0_9``: fraction of faces with q > 0.9.
+        ``min_angle_deg``, ``mean_min_angle_deg``: smallest angle of the mesh and mean
+        over faces of the smallest angle of the face, in degrees;
+        ``frac_min_angle_below_30``: fraction of faces with an angle below 30 degrees.
+        ``valence6_fraction``: see :func:`valence6_fraction` (None if no interior vertex).
+        ``boundary_loops``: connected components of the boundary edges;
+        ``euler_characteristic``: V - E + F over the referenced vertices;
+        ``manifold``: no edge with more than two faces and no pinched vertex.
+        With ``reference``, distances divided by the bounding-box diagonal of ``V0``:
+        ``hausdorff`` and ``mean_distance`` between the surfaces
+        (:func:`~qcremesh.geometry.distance.hausdorff_distance`), and
+        ``boundary_hausdorff`` between the boundary edges
+        (:func:`~qcremesh.geometry.distance.polyline_hausdorff_distance`): 0.0 when
+        neither surface has a boundary, None when only one of them has.
+    """
+    V = np.asarray(V, dtype=np.float64)
+    F = np.asarray(F)
+    q = radius_ratio(V, F)
+    amin = np.degrees(min_angle(V, F))
+    B = boundary_edges(F)
+    ids, ends = np.unique(B, return_inverse=True)
+    ends = ends.reshape(B.shape)
+    graph = sp.coo_matrix((np.ones(len(B)), (ends[:, 0], ends[:, 1])), shape=(len(ids), len(ids)))
+    report = {
+        "faces": len(F),
+        "vertices": len(V),
+        "q_mean": float(q.mean()),
+        "q_min": float(q.min()),
+        "q_p01": float(np.percentile(q, 1)),
+        "q_frac_above_0_9": float(np.mean(q > 0.9)),
+        "min_angle_deg": float(amin.min()),
+        "mean_min_angle_deg": float(amin.mean()),
+        "frac_min_angle_below_30": float(np.mean(amin < 30)),
+        "valence6_fraction": _number(valence6_fraction(F)),
+        "boundary_loops": int(connected_components(graph, directed=False)[0]),
+        "euler_characteristic": int(euler_characteristic(F)),
+        "manifold": bool(len(nonmanifold_edges(F)) == 0 and len(nonmanifold_vertices(F)) == 0),
+    }
+    if reference is not None:
+        V0 = np.asarray(reference[0], dtype=np.float64)
+        F0 = np.asarray(reference[1])
+        diag = float(np.linalg.norm(V0.max(0) - V0.min(0)))
+        hausdorff, mean = hausdorff_distance(V, F, V0, F0)
+        B0 = boundary_edges(F0)
+        if len(B) and len(B0):
+            boundary = polyline_hausdorff_distance(V, B, V0, B0)[0] / diag
+        else:
+            boundary = None if len(B) or len(B0) else 0.0
+        report.update(hausdorff=hausdorff / diag, mean_distance=mean / diag, boundary_hausdorff=boundary)
+    return report

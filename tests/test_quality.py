@@ -1,0 +1,140 @@
+import json
+
+import numpy as np
+import pytest
+
+from conftest import DATA
+from qcremesh.geometry.quality import (
+    mesh_quality,
+    min_angle,
+    radius_ratio,
+    triangle_angles,
+    valence6_fraction,
+    vertex_valence,
+)
+from qcremesh.mesh.io import read_mesh
+
+
+def regular_grid(k):
+    """k x k vertices on [0, 1]^2, every square cut along the same diagonal."""
+    g = np.linspace(0, 1, k)
+    uv = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+    i, j = np.meshgrid(np.arange(k - 1), np.arange(k - 1))
+    a = (j * k + i).ravel()
+    F = np.concatenate([np.column_stack([a, a + 1, a + k + 1]), np.column_stack([a, a + k + 1, a + k])])
+    return uv, F
+
+
+def random_rotation(seed):
+    Q, _ = np.linalg.qr(np.random.default_rng(seed).normal(size=(3, 3)))
+    return Q
+
+
+def test_known_triangles():
+    V = np.array([[0, 0], [1, 0], [0.5, np.sqrt(3) / 2], [0, 1], [3, 0], [0, 4], [2, 0]])
+    F = np.array([[0, 1, 2], [0, 1, 3], [0, 4, 5], [0, 1, 6], [0, 0, 1]])
+    q = radius_ratio(V, F)
+    np.testing.assert_allclose(q, [1, 2 * (np.sqrt(2) - 1), 0.8, 0, 0], atol=1e-15)
+    A = triangle_angles(V, F)
+    np.testing.assert_allclose(A[0], np.pi / 3)
+    np.testing.assert_allclose(A[1], [np.pi / 2, np.pi / 4, np.pi / 4])
+    np.testing.assert_allclose(A[2], [np.pi / 2, np.arctan2(4, 3), np.arctan2(3, 4)])
+    np.testing.assert_allclose(A[3], [0, np.pi, 0], atol=1e-15)  # collinear
+    np.testing.assert_allclose(min_angle(V, F)[:4], [np.pi / 3, np.pi / 4, np.arctan2(3, 4), 0])
+
+
+def test_invariant_under_rotation_and_embedding_in_space():
+    rng = np.random.default_rng(0)
+    uv = rng.normal(size=(30, 2))
+    F = rng.choice(30, (50, 3), replace=True)
+    F = F[(F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 2] != F[:, 0])]
+    V = np.column_stack([uv, np.zeros(len(uv))]) @ random_rotation(1).T * 3.7
+    np.testing.assert_allclose(radius_ratio(V, F), radius_ratio(uv, F), rtol=1e-9)
+    np.testing.assert_allclose(triangle_angles(V, F), triangle_angles(uv, F), atol=1e-12)
+    np.testing.assert_allclose(triangle_angles(V, F).sum(1), np.pi)
+    l = np.linalg.norm(np.roll(V[F], -1, axis=1) - V[F], axis=2)
+    a, b, c = l.T
+    q = (b + c - a) * (c + a - b) * (a + b - c) / (a * b * c)
+    np.testing.assert_allclose(radius_ratio(V, F), q, rtol=1e-8, atol=1e-12)
+    assert ((0 <= radius_ratio(V, F)) & (radius_ratio(V, F) <= 1 + 1e-15)).all()
+
+
+def test_needle_and_cap_are_accurate():
+    # needle: 2A = 1e-9, a = 1, b = c = hypot(0.5, 1e-9); cap: the same with the apex at 0.
+    h = 1e-9
+    V = np.array([[0, 0], [1, 0], [0.5, h], [1e-12, h]])
+    q = radius_ratio(V, [[0, 1, 2], [0, 1, 3]])
+    b = np.hypot(0.5, h)
+    np.testing.assert_allclose(q[0], 4 * h**2 / ((1 + 2 * b) * b * b), rtol=1e-9)
+    c, d = np.hypot(1e-12, h), np.hypot(1 - 1e-12, h)
+    np.testing.assert_allclose(q[1], 4 * h**2 / ((1 + c + d) * c * d), rtol=1e-6)
+    angles = triangle_angles(V, [[0, 1, 2]])[0]
+    np.testing.assert_allclose(angles[:2], np.arctan(2 * h), rtol=1e-12)
+
+
+def test_valence_on_a_regular_grid():
+    uv, F = regular_grid(6)
+    val = vertex_valence(F)
+    interior = ((uv > 0) & (uv < 1)).all(1)
+    assert (val[interior] == 6).all()
+    assert val.sum() == 2 * (3 * 5 * 5 + 2 * 5)  # twice the number of edges
+    assert valence6_fraction(F) == 1.0
+    np.testing.assert_array_equal(vertex_valence(F, n=40)[36:], 0)
+    flipped = F.copy()
+    flipped[0] = [0, 1, 6]
+    flipped[25] = [1, 7, 6]  # the first square now cut along the other diagonal
+    assert valence6_fraction(flipped) == pytest.approx(1 - 1 / 16)
+    assert np.isnan(valence6_fraction([[0, 1, 2]]))
+
+
+def test_mesh_quality_of_a_grid_and_against_a_reference():
+    uv, F = regular_grid(11)
+    V = np.column_stack([uv, np.zeros(len(uv))])
+    r = mesh_quality(V, F)
+    assert json.loads(json.dumps(r, allow_nan=False)) == r
+    assert r["faces"] == 200 and r["vertices"] == 121
+    assert r["q_mean"] == pytest.approx(2 * (np.sqrt(2) - 1)) == r["q_min"] == r["q_p01"]
+    assert r["q_frac_above_0_9"] == 0 and r["frac_min_angle_below_30"] == 0
+    assert r["min_angle_deg"] == pytest.approx(45) and r["mean_min_angle_deg"] == pytest.approx(45)
+    assert r["valence6_fraction"] == 1.0
+    assert (r["boundary_loops"], r["euler_characteristic"], r["manifold"]) == (1, 1, True)
+    assert "hausdorff" not in r
+
+    diag = np.sqrt(2)
+    r = mesh_quality(V + [0.03, 0, 0.01], F, reference=(V, F))
+    assert json.loads(json.dumps(r, allow_nan=False)) == r
+    assert r["hausdorff"] == pytest.approx(np.hypot(0.03, 0.01) / diag)
+    assert 0.01 / diag < r["mean_distance"] < r["hausdorff"]
+    assert r["boundary_hausdorff"] == pytest.approx(np.hypot(0.03, 0.01) / diag)
+    r = mesh_quality(V, F, reference=(V, F))
+    distances = [r["hausdorff"], r["mean_distance"], r["boundary_hausdorff"]]
+    assert distances == pytest.approx([0, 0, 0], abs=1e-15)
+
+
+def test_mesh_quality_closed_and_nonmanifold():
+    tet = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
+    T = np.array([[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]])
+    r = mesh_quality(tet, T, reference=(tet, T))
+    assert (r["boundary_loops"], r["euler_characteristic"], r["manifold"]) == (0, 2, True)
+    assert r["valence6_fraction"] == 0.0 and r["boundary_hausdorff"] == 0.0
+    r = mesh_quality(tet, T, reference=(tet, T[:3]))
+    assert r["boundary_hausdorff"] is None
+    fin = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])  # three faces on edge (0, 1)
+    V = np.array([[0, 0, 0], [1, 0, 0], [0.5, 1, 0], [0.5, -1, 0], [0.5, 0, 1]], float)
+    r = mesh_quality(V, fin)
+    assert r["manifold"] is False
+    assert r["valence6_fraction"] is None
+    bowtie = np.array([[0, 1, 2], [0, 3, 4]])  # two triangles pinched at vertex 0
+    V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [-1, 0, 0], [-1, -1, 0]], float)
+    r = mesh_quality(V, bowtie)
+    assert r["manifold"] is False and r["boundary_loops"] == 1
+
+
+def test_mesh_quality_of_a_real_mesh():
+    V, F = read_mesh(DATA / "fran_cut.ply")
+    r = mesh_quality(V, F)
+    q = radius_ratio(V, F)
+    assert r["q_min"] == q.min() > 0 and r["q_mean"] == pytest.approx(q.mean())
+    assert r["q_min"] <= r["q_p01"] <= r["q_mean"] <= 1
+    assert 0 < r["min_angle_deg"] <= r["mean_min_angle_deg"] <= 60
+    assert (r["boundary_loops"], r["euler_characteristic"], r["manifold"]) == (1, 1, True)
