@@ -52,3 +52,47 @@ def test_param_rejects_non_obj_output(tmp_path, capsys):
     assert main(["param", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "x.ply")]) == 1
     assert "written as OBJ" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_remesh_cli_with_report(tmp_path, capsys):
+    out = tmp_path / "re.ply"
+    report = tmp_path / "report"
+    args = ["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", "2000", "--method", "subdivided"]
+    assert main(args + ["--report", str(report)]) == 0
+    text = capsys.readouterr().out
+    assert "radius ratio 2 r_in / R_circ: mean" in text and "Hausdorff" in text and "time (s):" in text
+    V, F = read_mesh(out)
+    assert abs(len(F) - 2000) <= 100
+    for name in ["radius_ratio.png", "disk_meshes.png", "summary.json", "report.html"]:
+        assert (report / name).is_file()
+    page = (report / "report.html").read_text()
+    assert 'src="radius_ratio.png"' in page and "q_mean" in page
+
+
+def test_remesh_cli_is_deterministic(tmp_path):
+    args = ["remesh", str(DATA / "fran_cut.ply"), "--faces", "1500", "--method", "subdivided", "--seed", "7"]
+    assert main(args + ["-o", str(tmp_path / "a.obj")]) == 0
+    assert main(args + ["-o", str(tmp_path / "b.obj")]) == 0
+    assert (tmp_path / "a.obj").read_bytes() == (tmp_path / "b.obj").read_bytes()
+
+
+def test_remesh_cli_errors(tmp_path, capsys):
+    out = tmp_path / "x.obj"
+    assert main(["remesh", str(DATA / "featuretype.STL"), "-o", str(out)]) == 1
+    err = capsys.readouterr().err.strip()
+    assert err == f"qcremesh: error: {DATA / 'featuretype.STL'}: 16 boundary loops, a disk has 1"
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", "2"]) == 1
+    assert capsys.readouterr().err.strip() == "qcremesh: error: --faces must be at least 4"
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "no" / "x.obj")]) == 1
+    assert "does not exist" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_quality_cli_json(capsys):
+    import json
+
+    assert main(["quality", str(DATA / "fran_cut.ply"), "--json", "--reference", str(DATA / "fran_cut.ply")]) == 0
+    q = json.loads(capsys.readouterr().out)
+    assert q["faces"] == 4224 and q["hausdorff"] < 1e-12 and 0 < q["q_min"] < q["q_mean"] < 1
+    assert main(["quality", str(DATA / "fran_cut.ply")]) == 0
+    assert "radius ratio" in capsys.readouterr().out

@@ -66,26 +66,49 @@ def interpolate_on_boundary(theta_b, values_b, theta):
     return (1 - s)[:, None] * vals[i] + s[:, None] * vals[i + 1]
 
 
-def boundary_corners(V, bnd, angle=30.0):
+def boundary_corners(V, bnd, angle=45.0, scale=None):
     """Boundary vertices where the boundary turns by more than ``angle`` degrees.
 
-    The turning angle at b_i is the angle between the edges b_{i-1} b_i and b_i b_{i+1}
-    in R^3.
+    The turning angle at b_i is the angle between the chords from the boundary point at
+    arc length ``scale / 2`` before b_i to b_i and from b_i to the point ``scale / 2``
+    after it (with ``scale=None``, between the two boundary edges at b_i). Measured at the
+    scale of the output spacing, the jagged border of a scan is not a corner while the
+    corner of a CAD part is. Of the vertices above the threshold, the local maxima are
+    kept, sharpest first, at least ``scale / 2`` apart along the boundary.
 
     Returns
     -------
     (c,) int
         Positions in ``bnd`` (not vertex indices), increasing.
     """
-    P = np.asarray(V)[bnd]
-    a = P - np.roll(P, 1, axis=0)
-    b = np.roll(P, -1, axis=0) - P
-    cos = (a * b).sum(1) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1))
+    P = np.asarray(V, dtype=np.float64)[bnd]
+    seg = np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1)
+    s = np.r_[0.0, np.cumsum(seg)]
+    perimeter = s[-1]
+    if scale is None:
+        before, after = np.roll(P, 1, axis=0), np.roll(P, -1, axis=0)
+    else:
+        closed = np.concatenate([P, P[:1]])
+        at = lambda x: np.column_stack(  # noqa: E731
+            [np.interp(np.mod(x, perimeter), s, closed[:, k]) for k in range(P.shape[1])]
+        )
+        before, after = at(s[:-1] - scale / 2), at(s[:-1] + scale / 2)
+    a, b = P - before, after - P
+    cos = (a * b).sum(1) / np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
     turn = np.degrees(np.arccos(np.clip(cos, -1, 1)))
-    return np.flatnonzero(turn > angle)
+    peak = (turn > angle) & (turn >= np.roll(turn, 1)) & (turn >= np.roll(turn, -1))
+    candidates = np.flatnonzero(peak)
+    if scale is None or len(candidates) < 2:
+        return candidates
+    kept = []
+    for c in candidates[np.argsort(-turn[candidates], kind="stable")]:
+        gap = np.abs(s[c] - s[kept])
+        if np.all(np.minimum(gap, perimeter - gap) >= scale / 2):
+            kept.append(c)
+    return np.sort(np.asarray(kept, dtype=np.int64))
 
 
-def boundary_landmarks(V, uv, bnd, count, corner_angle=30.0):
+def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0):
     """Boundary landmarks: ``count`` points spaced uniformly by arc length along the
     surface boundary, the sharp corners included, as angles on the circle.
 
@@ -116,7 +139,7 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=30.0):
     seg = np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1)
     s = np.r_[0.0, np.cumsum(seg)]  # arc length at b_0 .. b_{b-1}, b_0 again
     perimeter = s[-1]
-    corners = boundary_corners(V, bnd, corner_angle)
+    corners = boundary_corners(V, bnd, corner_angle, scale=perimeter / max(count, 3))
     starts = corners if len(corners) else np.array([0])
     s0 = s[starts]
     lengths = np.diff(np.r_[s0, s0[0] + perimeter])
@@ -134,6 +157,19 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=30.0):
     return theta[order], (rank == 0)[order] & (len(corners) > 0)
 
 
+def _drop_crowded(points, fixed, ratio=0.25):
+    """Remove the free generators that sit much closer to another generator than the
+    local spacing (a generator whose cell caught no sample never moves, and can end up
+    on top of a neighbour): those with a nearest neighbour closer than ``ratio`` times the
+    median distance to their six nearest."""
+    allp = np.concatenate([fixed, points])
+    if len(allp) < 8 or len(points) == 0:
+        return points
+    d, _ = cKDTree(allp).query(points, k=7)
+    crowded = d[:, 1] < ratio * np.median(d[:, 1:], axis=1)
+    return points[~crowded]
+
+
 @dataclass
 class CVTResult:
     """Result of :func:`cvt_landmarks`.
@@ -141,7 +177,8 @@ class CVTResult:
     Attributes
     ----------
     points : (k, 2) float
-        The interior generators.
+        The interior generators (those crowded onto another one removed, so k can be a
+        little below the count asked for).
     iterations : int
         Lloyd iterations done.
     cell_mass : (k,) float
@@ -213,6 +250,8 @@ def cvt_landmarks(samples, mass, fixed, count, *, weight=None, iterations=30, to
         points = new
         if move < tol * spacing:
             break
+    points = _drop_crowded(points, fixed)
+    count = len(points)
     _, owner = cKDTree(np.concatenate([fixed, points])).query(samples)
     cell = np.bincount(owner, weights=mass, minlength=nfix + count)[nfix:]
     return CVTResult(points, done, cell, float(cell.std() / cell.mean()) if count else 0.0)

@@ -5,6 +5,13 @@
     ``v``, their disk coordinates as ``vt`` with the same index, and the input faces as
     ``f a/a b/b c/c``.
 
+``qcremesh remesh INPUT -o OUTPUT [--faces N] [--levels L] [--method M] [--seed S] [--relax K] [--report DIR]``
+    Quasi-conformal remeshing (Algorithm 2 and projection); the output format follows
+    the extension.
+
+``qcremesh quality MESH [--reference ORIGINAL] [--json]``
+    Triangle quality, and distances to a reference surface.
+
 Errors (unreadable file, a mesh that is not a disk, ...) are printed as one line on
 stderr, the exit status is 1, and no output file is written.
 """
@@ -20,6 +27,7 @@ from .. import __version__
 from ..mesh.io import MeshReadError, read_mesh, write_mesh
 from ..mesh.validate import MeshError
 from ..param.disk import disk_conformal_map
+from ..remesh.pipeline import METHODS
 
 __all__ = ["main"]
 
@@ -43,15 +51,145 @@ def _parser():
     q.add_argument("input", help="triangle mesh (OBJ, PLY, OFF, STL, VTK, .mat, ...)")
     q.add_argument("-o", "--output", required=True, help="output OBJ with disk coordinates as vt")
     q.add_argument("--plot", metavar="FILE.png", help="draw the disk coloured by |mu| and its histogram")
+
+    r = sub.add_parser(
+        "remesh",
+        help="remesh a disk-topology mesh into a regular one",
+        description="Quasi-conformal remeshing (Algorithm 2) with projection onto the input surface.",
+    )
+    r.add_argument("input", help="triangle mesh (OBJ, PLY, OFF, STL, VTK, .mat, ...)")
+    r.add_argument("-o", "--output", required=True, help="output mesh; the format follows the extension")
+    r.add_argument("--faces", type=int, help="number of output faces (default: the input's)")
+    r.add_argument("--levels", type=int, default=2, help="subdivision levels above the base mesh (default 2)")
+    r.add_argument("--method", choices=METHODS, default="subdivided", help="the pipeline or one of its ablations (default subdivided)")
+    r.add_argument("--seed", type=int, default=0, help="seed of the landmark initialization (default 0)")
+    r.add_argument(
+        "--relax", type=int, default=10, metavar="K", help="tangential relaxation sweeps on the surface (0: the paper's pipeline alone; default 10)"
+    )
+    r.add_argument("--report", metavar="DIR", help="write figures and report.html into DIR")
+
+    m = sub.add_parser("quality", help="triangle quality of a mesh, and its distance to a reference")
+    m.add_argument("mesh")
+    m.add_argument("--reference", metavar="ORIGINAL", help="surface to measure distances to")
+    m.add_argument("--json", action="store_true", help="print JSON instead of a table")
     return p
+
+
+def _check_output_folder(*targets):
+    for target in filter(None, targets):
+        parent = Path(target).parent
+        if not parent.is_dir():
+            raise CommandError(f"{target}: folder {parent} does not exist")
+
+
+def _progress():
+    """A per-stage progress bar on a terminal (tqdm when installed), else nothing."""
+    if not sys.stderr.isatty():
+        return None, lambda: None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return (lambda stage: print(f"... {stage}", file=sys.stderr)), lambda: None
+    bar = tqdm(total=None, bar_format="{desc} [{elapsed}]", file=sys.stderr, leave=False)
+
+    def update(stage):
+        bar.set_description_str(f"qcremesh: {stage}")
+        bar.update()
+
+    return update, bar.close
+
+
+def _quality_lines(q):
+    lines = [
+        f"faces {q['faces']}, vertices {q['vertices']}, boundary loops {q['boundary_loops']}, "
+        f"Euler characteristic {q['euler_characteristic']}, manifold {'yes' if q['manifold'] else 'no'}",
+        f"radius ratio 2 r_in / R_circ: mean {q['q_mean']:.4f}, min {q['q_min']:.4f}, "
+        f"1st percentile {q['q_p01']:.4f}, q > 0.9: {100 * q['q_frac_above_0_9']:.1f} %",
+        f"minimum angle {q['min_angle_deg']:.2f} deg, mean minimum angle {q['mean_min_angle_deg']:.2f} deg",
+    ]
+    if "hausdorff" in q:
+        lines.append(
+            f"distance to the reference (of its bounding-box diagonal): Hausdorff {100 * q['hausdorff']:.3f} %, "
+            f"mean {100 * q['mean_distance']:.4f} %, boundary Hausdorff {100 * q['boundary_hausdorff']:.3f} %"
+        )
+    return lines
+
+
+def _remesh(args, out):
+    from ..geometry.quality import mesh_quality
+    from ..remesh.pipeline import remesh
+
+    _check_output_folder(args.output)
+    if args.report and Path(args.report).exists() and not Path(args.report).is_dir():
+        raise CommandError(f"{args.report}: exists and is not a folder")
+    if args.faces is not None and args.faces < 4:
+        raise CommandError("--faces must be at least 4")
+    if args.levels < 0:
+        raise CommandError("--levels must be >= 0")
+    if args.relax < 0:
+        raise CommandError("--relax must be >= 0")
+    t0 = time.perf_counter()
+    V, F, data = read_mesh(args.input, return_data=True)
+    t_read = time.perf_counter() - t0
+    update, close = _progress()
+    try:
+        result = remesh(
+            V, F, args.faces, levels=args.levels, method=args.method, seed=args.seed, relax=args.relax,
+            data=data, progress=update,
+        )
+    except MeshError as exc:
+        raise CommandError(f"{args.input}: {exc}") from exc
+    finally:
+        close()
+    t1 = time.perf_counter()
+    quality = mesh_quality(result.V, result.F, reference=(V, F))
+    t_measure = time.perf_counter() - t1
+    t2 = time.perf_counter()
+    uv = result.data.pop("uv", None)
+    write_mesh(args.output, result.V, result.F, uv=uv, data=result.data)
+    stages = {"read": t_read, **result.times, "measure": t_measure, "write": time.perf_counter() - t2}
+    print(f"{args.input}: {len(V)} vertices, {len(F)} faces -> {args.output}", file=out)
+    for line in _quality_lines(quality):
+        print(line, file=out)
+    st = result.stats
+    if "teichmuller_k" in st:
+        print(
+            f"Teichmueller map: k = {st['teichmuller_k']:.4f} after {st['teichmuller_iterations']} iterations"
+            f"{'' if st['teichmuller_converged'] else ' (not converged)'}, "
+            f"{st['teichmuller_folded_faces']} folded faces",
+            file=out,
+        )
+    if "cvt_uniformity" in st:
+        print(f"landmarks: {st['base_vertices']}, surface-area uniformity (std/mean of cells) {st['cvt_uniformity']:.3f}", file=out)
+    if args.report:
+        t3 = time.perf_counter()
+        from .report import write_remesh_report
+
+        write_remesh_report(args.report, args.input, (V, F), result, quality, stages)
+        stages["report"] = time.perf_counter() - t3
+    print("time (s): " + ", ".join(f"{k} {v:.3f}" for k, v in stages.items()), file=out)
+
+
+def _quality(args, out):
+    import json
+
+    from ..geometry.quality import mesh_quality
+
+    V, F = read_mesh(args.mesh)
+    reference = read_mesh(args.reference) if args.reference else None
+    q = mesh_quality(V, F, reference=reference)
+    if args.json:
+        print(json.dumps(q, indent=2), file=out)
+    else:
+        print(f"{args.mesh}:", file=out)
+        for line in _quality_lines(q):
+            print("  " + line, file=out)
 
 
 def _param(args, out):
     if Path(args.output).suffix.lower() != ".obj":
         raise CommandError(f"{args.output}: the parameterization is written as OBJ (use .obj)")
-    for target in filter(None, [args.output, args.plot]):
-        if not Path(target).parent.is_dir() and str(Path(target).parent) != "":
-            raise CommandError(f"{target}: folder {Path(target).parent} does not exist")
+    _check_output_folder(args.output, args.plot)
     t0 = time.perf_counter()
     V, F = read_mesh(args.input)
     t_read = time.perf_counter() - t0
@@ -89,8 +227,7 @@ def main(argv=None):
     """Entry point of the ``qcremesh`` console script; returns the exit status."""
     args = _parser().parse_args(argv)
     try:
-        if args.command == "param":
-            _param(args, sys.stdout)
+        {"param": _param, "remesh": _remesh, "quality": _quality}[args.command](args, sys.stdout)
     except (CommandError, MeshReadError, ImportError) as exc:
         print(f"qcremesh: error: {exc}", file=sys.stderr)
         return 1

@@ -6,13 +6,15 @@ figure is drawn, with the non-interactive Agg backend.
 
 from __future__ import annotations
 
+import html
+import json
 import os
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["plot_disk_map"]
+__all__ = ["plot_disk_map", "plot_radius_ratio", "plot_disk_levels", "write_remesh_report"]
 
 
 def _pyplot():
@@ -78,3 +80,121 @@ def plot_disk_map(path, uv, F, mu, title=None):
         _save(fig, path)
     finally:
         plt.close(fig)
+
+
+def plot_radius_ratio(path, before, after, labels=("input", "remeshed")):
+    """Histograms of the radius ratio 2 r_in / R_circ before and after remeshing (as
+    Figs. 18-20 of Choi, Gu & Lui).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    before, after : (m,) float
+        Radius ratio per face.
+    """
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharex=True)
+    for ax, q, label, colour in zip(axes, (before, after), labels, ("#a83b3b", "#3b6ea8")):
+        ax.hist(q, bins=50, range=(0, 1), color=colour)
+        ax.set_title(f"{label}: {len(q)} faces, mean {q.mean():.3f}, min {q.min():.3f}")
+        ax.set_xlabel("radius ratio 2 r_in / R_circ")
+        ax.set_ylabel("faces")
+    fig.tight_layout()
+    try:
+        _save(fig, path)
+    finally:
+        plt.close(fig)
+
+
+def plot_disk_levels(path, meshes, titles):
+    """Draw meshes of the disk side by side (the base, subdivided and adaptive meshes of
+    Fig. 8).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    meshes : list of ((n, 2) float, (m, 3) int)
+    titles : list of str
+    """
+    plt = _pyplot()
+    from matplotlib.tri import Triangulation
+
+    fig, axes = plt.subplots(1, len(meshes), figsize=(5 * len(meshes), 5))
+    for ax, (uv, F), title in zip(np.atleast_1d(axes), meshes, titles):
+        lw = 0.6 if len(F) < 2000 else 0.25 if len(F) < 20000 else 0.1
+        ax.triplot(Triangulation(uv[:, 0], uv[:, 1], F), color="k", lw=lw)
+        ax.set_aspect("equal")
+        ax.set_axis_off()
+        ax.set_title(f"{title} ({len(F)} faces)")
+    fig.tight_layout()
+    try:
+        _save(fig, path)
+    finally:
+        plt.close(fig)
+
+
+def _write_text(path, text):
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(suffix=path.suffix, prefix=".tmp-", dir=path.parent)
+    with os.fdopen(fd, "w") as fh:
+        fh.write(text)
+    os.replace(tmp, path)
+
+
+def write_remesh_report(folder, name, original, result, quality, times):
+    """Write the figures of a remeshing run and a ``report.html`` that shows them with
+    the numbers.
+
+    Files: ``radius_ratio.png`` (histograms before and after), ``disk_meshes.png`` (base,
+    subdivided and adaptive disk meshes), ``teichmuller_mu.png`` (|mu| of the
+    Teichmueller map, when there is one), ``summary.json`` and ``report.html``.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        Created if missing (its parent must exist).
+    name : str
+        Name of the input, for the titles.
+    original : ((n, 3) float, (m, 3) int)
+        The input mesh.
+    result : qcremesh.remesh.pipeline.RemeshResult
+    quality : dict
+        :func:`qcremesh.geometry.quality.mesh_quality` of the output.
+    times : dict of str to float
+    """
+    from ..geometry.quality import radius_ratio
+
+    folder = Path(folder)
+    folder.mkdir(exist_ok=True)
+    V0, F0 = original
+    plot_radius_ratio(folder / "radius_ratio.png", radius_ratio(V0, F0), radius_ratio(result.V, result.F))
+    base_uv, base_F = result.disk_levels[0]
+    sub_uv, sub_F = result.disk_levels[-1]
+    plot_disk_levels(
+        folder / "disk_meshes.png",
+        [(base_uv, base_F), (sub_uv, sub_F), (result.uv, result.F)],
+        ["base mesh", "subdivided", "adaptive (final)"],
+    )
+    figures = [("radius_ratio.png", "Radius ratio before and after"), ("disk_meshes.png", "Meshes of the disk")]
+    if result.mu is not None:
+        plot_disk_map(folder / "teichmuller_mu.png", result.uv, result.F, result.mu, title="Teichmueller map")
+        figures.append(("teichmuller_mu.png", "|mu| of the Teichmueller map"))
+    summary = {"input": str(name), "quality": quality, "stats": result.stats, "times": times}
+    _write_text(folder / "summary.json", json.dumps(summary, indent=2, default=float))
+    rows = "".join(
+        f"<tr><td>{html.escape(str(k))}</td><td>{v:.6g}</td></tr>" if isinstance(v, float)
+        else f"<tr><td>{html.escape(str(k))}</td><td>{html.escape(str(v))}</td></tr>"
+        for section in (quality, result.stats)
+        for k, v in section.items()
+    )
+    time_rows = "".join(f"<tr><td>{html.escape(k)}</td><td>{v:.3f} s</td></tr>" for k, v in times.items())
+    imgs = "".join(f'<h2>{html.escape(t)}</h2><img src="{f}" alt="{html.escape(t)}">' for f, t in figures)
+    page = f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>qcremesh report: {html.escape(str(name))}</title>
+<style>body{{font-family:sans-serif;max-width:1200px;margin:2em auto}}img{{max-width:100%}}
+table{{border-collapse:collapse}}td{{border:1px solid #ccc;padding:2px 8px}}</style></head>
+<body><h1>qcremesh report: {html.escape(str(name))}</h1>
+<h2>Numbers</h2><table>{rows}</table><h2>Time per stage</h2><table>{time_rows}</table>
+{imgs}</body></html>
+"""
+    _write_text(folder / "report.html", page)

@@ -8,6 +8,8 @@ and several times faster than its default.
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -22,13 +24,31 @@ except ImportError:  # the optional "fast" extra
 
 class _PardisoFactor:
     """PARDISO Cholesky factor of an SPD matrix; releases MKL's memory when collected
-    (pypardiso itself keeps it until told)."""
+    (pypardiso itself keeps it until told).
+
+    pypardiso searches the file system for MKL each time a solver is made (about 0.2 s);
+    the path found the first time is handed to the next ones.
+    """
+
+    mkl_path = None
 
     def __init__(self, A):
         self.upper = sp.triu(A, format="csr")
         self.upper.sort_indices()
-        self.solver = _pypardiso.PyPardisoSolver(mtype=2)
+        self.solver = self._new_solver()
         self.solver.factorize(self.upper)
+
+    @classmethod
+    def _new_solver(cls):
+        if cls.mkl_path is None or "PYPARDISO_MKL_RT" in os.environ:
+            solver = _pypardiso.PyPardisoSolver(mtype=2)
+            cls.mkl_path = solver.libmkl._name
+            return solver
+        os.environ["PYPARDISO_MKL_RT"] = cls.mkl_path
+        try:
+            return _pypardiso.PyPardisoSolver(mtype=2)
+        finally:
+            del os.environ["PYPARDISO_MKL_RT"]
 
     def __call__(self, B):
         return self.solver.solve(self.upper, np.ascontiguousarray(B))
@@ -70,7 +90,7 @@ def spd_solver(A, backend=None):
     elif backend == "superlu":
         lu = spla.splu(
             A.tocsc(),
-            permc_spec="MMD_AT_PLUS_A",
+            permc_spec="COLAMD",
             diag_pivot_thresh=0.0,
             options={"SymmetricMode": True},
         )

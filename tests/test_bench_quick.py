@@ -1,0 +1,36 @@
+"""The benchmark harness (benchmarks/run.py) runs end to end, so it cannot rot.
+
+Only the parameterization part, with qcremesh and Tutte: the other tools are installed in
+the benchmark venv of `make bench`, not in the test venv. The bundled fran_cut.ply keeps
+the test independent of ../shared/data.
+"""
+
+import json
+import subprocess
+import sys
+
+from conftest import DATA, ROOT
+
+
+def test_quick_parameterization_benchmark(tmp_path):
+    command = [sys.executable, str(ROOT / "benchmarks" / "run.py"), "--quick", "--data", str(DATA),
+               "--out", str(tmp_path), "--parts", "param", "--tools", "qcremesh,tutte"]
+    proc = subprocess.run(command, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+
+    results = json.loads((tmp_path / "results.json").read_text())
+    rows = {r["tool"]: r for r in results["param"]}
+    assert set(rows) == {"qcremesh", "tutte"}
+    for r in rows.values():
+        assert r["status"] == "ok" and r["name"] == "fran_cut.ply" and r["faces_in"] == 4224
+        assert r["folded"] == 0 and r["disk"]
+        assert 1 <= r["time"]["runs"] <= 3 and r["time"]["min"] <= r["time"]["median"] <= r["time"]["max"]
+        assert r["peak_rss_mb"] > 0
+    assert rows["qcremesh"]["mu_mean"] < 0.05 < rows["tutte"]["mu_mean"]
+    assert {"tutte", "lbs"} <= set(rows["qcremesh"]["stages"])
+    assert results["machine"]["cpu"] and results["machine"]["packages"]["qcremesh"]
+
+    markdown = (tmp_path / "results.md").read_text()
+    assert "## Machine" in markdown and "| fran_cut.ply | 4,224 | qcremesh |" in markdown
+    assert proc.stdout == markdown + "\n"
+    assert (tmp_path / "time_vs_faces.png").stat().st_size > 0

@@ -1,0 +1,116 @@
+import numpy as np
+import pytest
+
+from conftest import DATA, shared
+from qcremesh.geometry.distance import point_mesh_distance
+from qcremesh.geometry.quality import mesh_quality, radius_ratio
+from qcremesh.mesh.io import read_mesh
+from qcremesh.mesh.topology import boundary_loop, boundary_loops, euler_characteristic
+from qcremesh.mesh.validate import check_disk
+from qcremesh.remesh.pipeline import METHODS, remesh
+
+
+@pytest.fixture(scope="module")
+def fran():
+    V, F, data = read_mesh(DATA / "fran_cut.ply", return_data=True)
+    return V, F, data
+
+
+@pytest.fixture(scope="module")
+def fran_result(fran):
+    V, F, data = fran
+    return remesh(V, F, data=data, seed=3)
+
+
+def face_normals(V, F):
+    N = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    return N / np.linalg.norm(N, axis=1, keepdims=True)
+
+
+def test_output_is_a_disk_with_requested_face_count(fran, fran_result):
+    V, F, _ = fran
+    r = fran_result
+    check_disk(r.V, r.F)  # one manifold disk, consistently oriented, no degenerate face
+    assert abs(len(r.F) - len(F)) <= 0.05 * len(F)
+
+
+def test_vertices_on_surface_and_boundary_on_polyline(fran, fran_result):
+    V, F, _ = fran
+    r = fran_result
+    diag = np.linalg.norm(V.max(0) - V.min(0))
+    d, face, _ = point_mesh_distance(r.V, V, F)
+    assert d.max() < 1e-9 * diag
+    b_in = boundary_loop(F)
+    A, B = V[b_in], V[np.roll(b_in, -1)]
+    for p in r.V[boundary_loop(r.F)]:
+        t = np.clip(((p - A) * (B - A)).sum(1) / ((B - A) ** 2).sum(1), 0, 1)
+        assert np.min(np.linalg.norm(A + t[:, None] * (B - A) - p, axis=1)) < 1e-9 * diag
+
+
+def test_orientation_follows_input(fran, fran_result):
+    V, F, _ = fran
+    r = fran_result
+    _, face, _ = point_mesh_distance(r.V[r.F].mean(1), V, F)
+    agree = (face_normals(r.V, r.F) * face_normals(V, F)[face]).sum(1) > 0
+    assert agree.mean() > 0.99
+
+
+def test_quality_on_fran(fran, fran_result):
+    V, F, _ = fran
+    q = radius_ratio(fran_result.V, fran_result.F)
+    assert q.mean() > 0.96 and q.min() > 0.3
+    assert q.mean() > radius_ratio(V, F).mean() + 0.15
+
+
+def test_semi_regular_levels(fran_result):
+    r = fran_result
+    assert len(r.levels) == 3
+    for (Vc, Fc), (Vf, Ff) in zip(r.levels[:-1], r.levels[1:]):
+        assert len(Ff) == 4 * len(Fc)
+        # face f of a level is split into faces 4f..4f+3, which contain its corners
+        children = Ff.reshape(-1, 4, 3)
+        for c in range(3):
+            assert np.all((children == Fc[:, c][:, None, None]).any(axis=(1, 2)))
+        np.testing.assert_array_equal(Vf[: len(Vc)], Vc)
+    np.testing.assert_array_equal(r.levels[-1][1], r.F)
+
+
+def test_attributes_are_carried(fran, fran_result):
+    V, F, data = fran
+    uv = fran_result.data["uv"]
+    assert uv.shape == (len(fran_result.V), 2)
+    assert uv.min() >= data["uv"].min() - 1e-12 and uv.max() <= data["uv"].max() + 1e-12
+
+
+def test_deterministic(fran, fran_result):
+    V, F, data = fran
+    again = remesh(V, F, data=data, seed=3)
+    assert again.V.tobytes() == fran_result.V.tobytes()
+    assert again.F.tobytes() == fran_result.F.tobytes()
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_every_method_gives_a_disk(fran, method):
+    V, F, _ = fran
+    r = remesh(V, F, len(F) // 2, method=method, relax=0)
+    check_disk(r.V, r.F)
+    assert len(boundary_loops(r.F)) == 1 and euler_characteristic(r.F) == 1
+    assert abs(len(r.F) - len(F) // 2) <= 0.05 * len(F) // 2 or method == "uniform"
+
+
+def test_bad_arguments(fran):
+    V, F, _ = fran
+    with pytest.raises(ValueError, match="unknown method 'magic'; choose one of subdivided, teichmuller, base, uniform"):
+        remesh(V, F, method="magic")
+    with pytest.raises(ValueError, match="faces must be at least 4"):
+        remesh(V, F, 2)
+
+
+@pytest.mark.parametrize("name", ["foot.off"])
+def test_targets_on_shared_mesh(name):
+    V, F = read_mesh(shared(name))
+    r = remesh(V, F)
+    q = mesh_quality(r.V, r.F, reference=(V, F))
+    assert abs(q["faces"] - len(F)) <= 0.05 * len(F)
+    assert q["q_mean"] >= 0.97 and q["q_min"] >= 0.3
+    assert q["hausdorff"] <= 0.003
