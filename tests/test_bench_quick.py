@@ -13,8 +13,19 @@ from conftest import DATA, ROOT
 
 
 def test_quick_parameterization_benchmark(tmp_path):
-    command = [sys.executable, str(ROOT / "benchmarks" / "run.py"), "--quick", "--data", str(DATA),
-               "--out", str(tmp_path), "--parts", "param", "--tools", "qcremesh,tutte"]
+    command = [
+        sys.executable,
+        str(ROOT / "benchmarks" / "run.py"),
+        "--quick",
+        "--data",
+        str(DATA),
+        "--out",
+        str(tmp_path),
+        "--parts",
+        "param",
+        "--tools",
+        "qcremesh,tutte",
+    ]
     proc = subprocess.run(command, capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
 
@@ -24,7 +35,10 @@ def test_quick_parameterization_benchmark(tmp_path):
     for r in rows.values():
         assert r["status"] == "ok" and r["name"] == "fran_cut.ply" and r["faces_in"] == 4224
         assert r["folded"] == 0 and r["disk"]
-        assert 1 <= r["time"]["runs"] <= 3 and r["time"]["min"] <= r["time"]["median"] <= r["time"]["max"]
+        assert (
+            1 <= r["time"]["runs"] <= 3
+            and r["time"]["min"] <= r["time"]["median"] <= r["time"]["max"]
+        )
         assert r["peak_rss_mb"] > 0
     assert rows["qcremesh"]["mu_mean"] < 0.05 < rows["tutte"]["mu_mean"]
     assert {"tutte", "lbs"} <= set(rows["qcremesh"]["stages"])

@@ -64,7 +64,7 @@ def _parser():
     r.add_argument("--method", choices=METHODS, default="subdivided", help="the pipeline or one of its ablations (default subdivided)")
     r.add_argument("--seed", type=int, default=0, help="seed of the landmark initialization (default 0)")
     r.add_argument(
-        "--relax", type=int, default=10, metavar="K", help="tangential relaxation sweeps on the surface (0: the paper's pipeline alone; default 10)"
+        "--relax", type=int, default=40, metavar="K", help="tangential relaxation sweeps on the surface (0: the paper's pipeline alone; default 40)"
     )
     r.add_argument("--report", metavar="DIR", help="write figures and report.html into DIR")
 

@@ -149,7 +149,7 @@ def remesh(
     seed=0,
     corner_angle=45.0,
     cvt_iterations=30,
-    relax=10,
+    relax=40,
     teichmuller_iterations=60,
     data=None,
     progress=None,
