@@ -124,6 +124,11 @@ def check_disk(V, F):
     loop and Euler characteristic 1 (genus 0). The checks of
     :func:`check_triangle_mesh` come first.
 
+    Returns
+    -------
+    (b,) int64
+        The boundary loop (see :func:`qcremesh.mesh.topology.boundary_loops`).
+
     Raises
     ------
     MeshError
@@ -140,7 +145,10 @@ def check_disk(V, F):
         raise TopologyError("closed surface (no boundary), a disk has 1 boundary loop")
     if len(loops) != 1:
         raise TopologyError(f"{len(loops)} boundary loops, a disk has 1")
-    chi = topology.euler_characteristic(F)
+    # Every edge is manifold here: 3 m = 2 E_interior + E_boundary.
+    m = len(F)
+    chi = len(V) - (3 * m + len(loops[0])) // 2 + m
     if chi != 1:
         genus = (2 - chi - len(loops)) // 2
         raise TopologyError(f"genus {genus} (Euler characteristic {chi}), a disk has genus 0")
+    return loops[0]

@@ -175,10 +175,8 @@ def disk_conformal_map(V, F, *, check=True):
     t0 = time.perf_counter()
     V = np.asarray(V, dtype=np.float64)
     F = np.asarray(F, dtype=np.int64)
-    if check:
-        check_disk(V, F)
+    bnd = check_disk(V, F) if check else boundary_loop(F)
     n = len(V)
-    bnd = boundary_loop(F)
     t1 = time.perf_counter()
     times["validate"] = t1 - t0
 
