@@ -108,3 +108,15 @@ def test_hexagonal_points():
     d = np.linalg.norm(P[:, None] - P[None], axis=2)
     np.fill_diagonal(d, 1)
     np.testing.assert_allclose(d.min(1), 0.1, atol=1e-12)
+
+
+def test_jagged_border_has_no_corner_at_output_scale():
+    """A scan border zigzagging at the scale of its edges turns by 90 degrees at every
+    vertex, but is straight at the scale of the output spacing."""
+    x = np.linspace(0, 10, 101)
+    zig = np.column_stack([x, 0.05 * (np.arange(101) % 2), np.zeros(101)])
+    top = np.column_stack([x[::-1], np.full(101, 3.0), np.zeros(101)])
+    V = np.concatenate([zig, top])
+    bnd = np.arange(len(V))
+    assert len(boundary_corners(V, bnd)) > 50  # edge scale: nearly every vertex
+    np.testing.assert_array_equal(boundary_corners(V, bnd, scale=1.0), [0, 100, 101, 201])

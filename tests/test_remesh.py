@@ -7,7 +7,7 @@ from qcremesh.geometry.quality import mesh_quality, radius_ratio
 from qcremesh.mesh.io import read_mesh
 from qcremesh.mesh.topology import boundary_loop, boundary_loops, euler_characteristic
 from qcremesh.mesh.validate import check_disk
-from qcremesh.remesh.pipeline import METHODS, remesh
+from qcremesh.remeshing.pipeline import METHODS, remesh
 
 
 @pytest.fixture(scope="module")

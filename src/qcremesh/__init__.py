@@ -8,10 +8,13 @@ __version__ = "0.1.0"
 
 from .beltrami.coefficient import beltrami_coefficient, compose_beltrami, mu_chop
 from .beltrami.solver import generalized_laplacian, linear_beltrami_solver
+from .beltrami.teichmuller import teichmuller_map
+from .geometry.quality import mesh_quality
 from .mesh.io import read_mesh, write_mesh
 from .mesh.validate import MeshError, check_disk
 from .param.disk import DiskMap, disk_conformal_map
 from .param.tutte import tutte_embedding
+from .remeshing.pipeline import RemeshResult, remesh
 
 __all__ = [
     "read_mesh",
@@ -26,4 +29,8 @@ __all__ = [
     "linear_beltrami_solver",
     "disk_conformal_map",
     "DiskMap",
+    "teichmuller_map",
+    "remesh",
+    "RemeshResult",
+    "mesh_quality",
 ]

@@ -73,8 +73,8 @@ def boundary_corners(V, bnd, angle=45.0, scale=None):
     arc length ``scale / 2`` before b_i to b_i and from b_i to the point ``scale / 2``
     after it (with ``scale=None``, between the two boundary edges at b_i). Measured at the
     scale of the output spacing, the jagged border of a scan is not a corner while the
-    corner of a CAD part is. Of the vertices above the threshold, the local maxima are
-    kept, sharpest first, at least ``scale / 2`` apart along the boundary.
+    corner of a CAD part is. Of the vertices above the threshold, the sharpest are kept
+    first, and then only those at least ``scale / 2`` along the boundary from a kept one.
 
     Returns
     -------
@@ -96,8 +96,7 @@ def boundary_corners(V, bnd, angle=45.0, scale=None):
     a, b = P - before, after - P
     cos = (a * b).sum(1) / np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
     turn = np.degrees(np.arccos(np.clip(cos, -1, 1)))
-    peak = (turn > angle) & (turn >= np.roll(turn, 1)) & (turn >= np.roll(turn, -1))
-    candidates = np.flatnonzero(peak)
+    candidates = np.flatnonzero(turn > angle)
     if scale is None or len(candidates) < 2:
         return candidates
     kept = []

@@ -27,7 +27,7 @@ from .. import __version__
 from ..mesh.io import MeshReadError, read_mesh, write_mesh
 from ..mesh.validate import MeshError
 from ..param.disk import disk_conformal_map
-from ..remesh.pipeline import METHODS
+from ..remeshing.pipeline import METHODS
 
 __all__ = ["main"]
 
@@ -117,7 +117,7 @@ def _quality_lines(q):
 
 def _remesh(args, out):
     from ..geometry.quality import mesh_quality
-    from ..remesh.pipeline import remesh
+    from ..remeshing.pipeline import remesh
 
     _check_output_folder(args.output)
     if args.report and Path(args.report).exists() and not Path(args.report).is_dir():

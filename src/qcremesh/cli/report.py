@@ -157,7 +157,7 @@ def write_remesh_report(folder, name, original, result, quality, times):
         Name of the input, for the titles.
     original : ((n, 3) float, (m, 3) int)
         The input mesh.
-    result : qcremesh.remesh.pipeline.RemeshResult
+    result : qcremesh.remeshing.pipeline.RemeshResult
     quality : dict
         :func:`qcremesh.geometry.quality.mesh_quality` of the output.
     times : dict of str to float

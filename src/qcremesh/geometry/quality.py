@@ -11,8 +11,8 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from ..mesh.topology import (
+    adjacency_matrix,
     boundary_edges,
-    edges,
     euler_characteristic,
     nonmanifold_edges,
     nonmanifold_vertices,
@@ -108,9 +108,7 @@ def vertex_valence(F, n=None):
     n : int, optional
         Number of vertices; ``F.max() + 1`` by default.
     """
-    F = np.asarray(F)
-    n = int(F.max()) + 1 if n is None else n
-    return np.bincount(edges(F).ravel(), minlength=n).astype(np.int64)
+    return np.diff(adjacency_matrix(F, n).indptr).astype(np.int64)
 
 
 def valence6_fraction(F):

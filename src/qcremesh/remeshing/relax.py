@@ -1,7 +1,7 @@
 """Tangential relaxation of a remeshed surface that keeps every vertex on the input
 surface and the connectivity unchanged.
 
-An optional last stage of :func:`qcremesh.remesh.pipeline.remesh`, beyond the paper. Each
+An optional last stage of :func:`qcremesh.remeshing.pipeline.remesh`, beyond the paper. Each
 sweep moves every interior vertex towards the centroid of its neighbours, tangentially
 (the component along the vertex normal is removed), by at most a quarter of its mean
 edge length, and snaps it back onto the input surface at the closest point among the input faces

@@ -183,7 +183,7 @@ def remesh(
         Maximum number of Lloyd iterations.
     relax : int
         Sweeps of tangential relaxation on the surface after the projection (see
-        :mod:`qcremesh.remesh.relax`; 0 leaves the paper's pipeline alone). The
+        :mod:`qcremesh.remeshing.relax`; 0 leaves the paper's pipeline alone). The
         connectivity and the semi-regular structure are kept.
     teichmuller_iterations : int
         Maximum number of QC iterations of the Teichmueller map.
