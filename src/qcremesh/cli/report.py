@@ -119,14 +119,13 @@ def plot_disk_levels(path, meshes, titles):
     plt = _pyplot()
     from matplotlib.tri import Triangulation
 
-    fig, axes = plt.subplots(1, len(meshes), figsize=(5 * len(meshes), 5))
+    fig, axes = plt.subplots(1, len(meshes), figsize=(5 * len(meshes), 5.4), layout="constrained")
     for ax, (uv, F), title in zip(np.atleast_1d(axes), meshes, titles):
         lw = 0.6 if len(F) < 2000 else 0.25 if len(F) < 20000 else 0.1
         ax.triplot(Triangulation(uv[:, 0], uv[:, 1], F), color="k", lw=lw)
         ax.set_aspect("equal")
         ax.set_axis_off()
         ax.set_title(f"{title} ({len(F)} faces)")
-    fig.tight_layout()
     try:
         _save(fig, path)
     finally:
