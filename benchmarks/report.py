@@ -1,0 +1,570 @@
+"""Machine description, markdown tables and plots of the benchmark results."""
+
+from __future__ import annotations
+
+import os
+import platform
+import subprocess
+import sys
+import time
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+
+import numpy as np
+
+from qcremesh.geometry.linsolve import solver_backend
+
+PACKAGES = [
+    "qcremesh",
+    "numpy",
+    "scipy",
+    "meshio",
+    "pypardiso",
+    "libigl",
+    "pymeshlab",
+    "pyacvd",
+    "pyvista",
+    "vtk",
+    "gpytoolbox",
+    "matplotlib",
+]
+STAGES = ["validate", "tutte", "beltrami", "lbs", "measure"]
+TOOL_NAMES = {
+    "qcremesh": "qcremesh",
+    "tutte": "Tutte (qcremesh)",
+    "igl_harmonic": "libigl harmonic",
+    "igl_lscm": "libigl LSCM",
+    "pymeshlab": "pymeshlab",
+    "pyacvd": "pyacvd",
+    "botsch": "gpytoolbox remesh_botsch",
+}
+ROOT = Path(__file__).resolve().parents[1]
+
+
+# Context ------------------------------------------------------------------------------
+
+
+def _first_line(path, prefix):
+    with open(path) as f:
+        return next(
+            (line.split(":", 1)[1].strip() for line in f if line.startswith(prefix)), "unknown"
+        )
+
+
+def _git(*args):
+    out = subprocess.run(["git", "-C", str(ROOT), *args], capture_output=True, text=True)
+    return out.stdout.strip() if out.returncode == 0 else ""
+
+
+def machine():
+    packages = {}
+    for name in PACKAGES:
+        try:
+            packages[name] = version(name)
+        except PackageNotFoundError:
+            packages[name] = "not installed"
+    commit = _git("rev-parse", "--short", "HEAD")
+    return {
+        "cpu": _first_line("/proc/cpuinfo", "model name"),
+        "cores": os.cpu_count(),
+        "usable_cores": len(os.sched_getaffinity(0)),
+        "ram_gb": round(int(_first_line("/proc/meminfo", "MemTotal").split()[0]) / 2**20, 1),
+        "os": platform.platform(),
+        "python": platform.python_version(),
+        "packages": packages,
+        "sparse_solver": solver_backend(),
+        "git": commit + (" with uncommitted changes" if _git("status", "--porcelain") else ""),
+        "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+        "load_average_start": os.getloadavg()[0],
+    }
+
+
+def settings(args):
+    return {
+        "command": " ".join([Path(sys.argv[0]).name, *sys.argv[1:]]),
+        "data": str(args.data),
+        "quick": args.quick,
+        "parts": args.parts,
+        "runs": args.runs,
+        "budget_s": args.budget,
+    }
+
+
+# Formatting ---------------------------------------------------------------------------
+
+
+def progress_line(row):
+    what = f"{row['kind']:6} {row['tool']:12} {row['name']:18}"
+    if "faces" in row:
+        what += f" -> {row['faces']:>7}"
+    if row.get("subdivide"):
+        what += f" (subdivided {row['subdivide']}x)"
+    if row["status"] != "ok":
+        return f"{what}  {row['status']}: {row['reason']}"
+    return f"{what}  {row['time']['median']:.3f} s  ({row['wall_s']:.1f} s in all)"
+
+
+def _num(x):
+    return f"{x:.3g}"
+
+
+def _time(t):
+    return f"{_num(t['median'])} ({_num(t['min'])}-{_num(t['max'])}, {t['runs']})"
+
+
+def _pct(x):
+    return "n/a" if x is None else f"{100 * x:.2f}"
+
+
+def _fixed(x, digits):
+    return "n/a" if x is None else f"{x:.{digits}f}"
+
+
+def _table(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+    return "\n".join(lines) + "\n"
+
+
+def _not_ok(row, width):
+    return [f"{row['status']}: {row['reason']}"] + [""] * (width - 1)
+
+
+# Parameterization ---------------------------------------------------------------------
+
+
+def _param_section(results):
+    rows = results["param"]
+    out = [
+        "## Parameterization of the disk meshes (the analogue of Table 1 of the paper)\n",
+        "|mu| of the map disk -> surface (qcremesh.beltrami_coefficient, Eq. 19), unweighted "
+        "over the faces. Folded: faces with signed area <= 0, counted against the orientation of "
+        "the majority of the faces (a mirrored map is mirrored back first). Disk: boundary on "
+        "the unit circle. LSCM has a free boundary and is not a disk map: its distortion is the "
+        "floor a disk map can approach.\n",
+    ]
+    table = []
+    for r in rows:
+        head = [r["name"], f"{r['faces_in']:,}", TOOL_NAMES[r["tool"]]]
+        if r["status"] != "ok":
+            table.append(head + _not_ok(r, 7))
+            continue
+        table.append(
+            head
+            + [
+                f"{r['mu_mean']:.4f}",
+                f"{r['mu_median']:.4f}",
+                f"{r['mu_max']:.3f}",
+                r["folded"],
+                "yes" if r["disk"] else "no",
+                _time(r["time"]),
+                f"{r['peak_rss_mb']:.0f}",
+            ]
+        )
+    out.append(
+        _table(
+            [
+                "mesh",
+                "faces",
+                "tool",
+                "mean abs mu",
+                "median abs mu",
+                "max abs mu",
+                "folded",
+                "disk",
+                "time s: median (min-max, runs)",
+                "peak MB",
+            ],
+            table,
+        )
+    )
+
+    ok = {(r["name"], r["tool"]): r for r in rows if r["status"] == "ok"}
+    ratios = [
+        [
+            name,
+            _num(q["time"]["median"]),
+            _num(h["time"]["median"]),
+            f"{q['time']['median'] / h['time']['median']:.1f}",
+        ]
+        for (name, tool), q in ok.items()
+        if tool == "qcremesh" and (h := ok.get((name, "igl_harmonic")))
+    ]
+    if ratios:
+        out.append(
+            "\nqcremesh time against igl.harmonic (cotangent weights, arc-length boundary) on "
+            "the same mesh:\n"
+        )
+        out.append(_table(["mesh", "qcremesh s", "igl.harmonic s", "ratio"], ratios))
+    stages = [r for r in rows if r["status"] == "ok" and r["tool"] == "qcremesh" and "stages" in r]
+    if stages:
+        out.append("\nStages of qcremesh.disk_conformal_map (median s per stage):\n")
+        out.append(
+            _table(
+                ["mesh", "faces"] + STAGES,
+                [
+                    [r["name"], f"{r['faces_in']:,}"] + [f"{r['stages'][s]:.3f}" for s in STAGES]
+                    for r in stages
+                ],
+            )
+        )
+    return out
+
+
+# Remeshing ----------------------------------------------------------------------------
+
+REMESH_HEADER = [
+    "mesh",
+    "tool",
+    "faces (vs wanted)",
+    "time s: median (min-max, runs)",
+    "q mean",
+    "q min",
+    "q 1%",
+    "q>0.9",
+    "min angle",
+    "valence 6",
+    "Hausdorff %",
+    "mean dist %",
+    "boundary Hausdorff %",
+    "manifold",
+    "loops",
+    "peak MB",
+]
+
+
+def _remesh_cells(r):
+    q = r["quality"]
+    return [
+        f"{q['faces']:,} ({100 * (q['faces'] / r['faces'] - 1):+.1f} %)",
+        _time(r["time"]),
+        f"{q['q_mean']:.3f}",
+        f"{q['q_min']:.3f}",
+        f"{q['q_p01']:.3f}",
+        f"{q['q_frac_above_0_9']:.3f}",
+        f"{q['min_angle_deg']:.1f}",
+        _fixed(q["valence6_fraction"], 3),
+        _pct(q["hausdorff"]),
+        _pct(q["mean_distance"]),
+        _pct(q["boundary_hausdorff"]),
+        "yes" if q["manifold"] else "no",
+        q["boundary_loops"],
+        f"{r['peak_rss_mb']:.0f}",
+    ]
+
+
+def _remesh_section(results):
+    rows = results["remesh"]
+    out = [
+        "## Remeshing\n",
+        "Every output measured by `qcremesh.geometry.quality.mesh_quality`: radius ratio q = 2 "
+        "r_in / R_circ per face, the smallest angle (degrees), the fraction of interior vertices "
+        "of valence 6, Hausdorff and mean distance to the input in % of its bounding-box "
+        "diagonal, the Hausdorff distance between the boundaries (n/a when only one of the two "
+        "meshes has a boundary), manifoldness and boundary loops of the output. Tools that take "
+        "an edge length are calibrated to the face count (the run with the final length is the "
+        "first timed run).\n",
+    ]
+    for label, half in (
+        ("at the input's face count", False),
+        ("at half the input's face count", True),
+    ):
+        table = []
+        for r in rows:
+            if r["half"] != half:
+                continue
+            head = [r["name"], TOOL_NAMES[r["tool"]]]
+            table.append(
+                head
+                + (_remesh_cells(r) if r["status"] == "ok" else _not_ok(r, len(REMESH_HEADER) - 2))
+            )
+        out.append(f"\n### {label.capitalize()}\n")
+        out.append(_table(REMESH_HEADER, table))
+    used = {r["tool"]: r["setting"] for r in rows if r["status"] == "ok"}
+    out.append("\nSettings: " + "; ".join(f"{TOOL_NAMES[t]}: {s}" for t, s in used.items()) + ".\n")
+    return out
+
+
+# Scaling ------------------------------------------------------------------------------
+
+
+def fit_exponents(rows):
+    """Least-squares slope of log(time) against log(faces), per kind, over the levels that ran."""
+    fits = {}
+    for kind in ("param", "remesh"):
+        ok = [r for r in rows if r["kind"] == kind and r["status"] == "ok"]
+        if len(ok) >= 2:
+            x = np.log([r["faces_in"] for r in ok])
+            y = np.log([r["time"]["median"] for r in ok])
+            fits[kind] = float(np.polyfit(x, y, 1)[0])
+    return fits
+
+
+def _scaling_section(results):
+    rows = results["scaling"]
+    out = [
+        f"## Scaling: qcremesh on {rows[0]['name']} subdivided 0, 1 and 2 times\n",
+        "Peak memory is that of the whole worker process (Python, the libraries and the loaded "
+        "mesh included); the resident size after loading is given beside it.\n",
+    ]
+    table = []
+    for r in rows:
+        head = [
+            "disk_conformal_map" if r["kind"] == "param" else "remesh",
+            r.get("subdivide", 0),
+            f"{r.get('faces_in', 0):,}",
+        ]
+        if r["status"] != "ok":
+            table.append(head + _not_ok(r, 4))
+            continue
+        stages = ", ".join(f"{k} {v:.2f}" for k, v in r.get("stages", {}).items())
+        table.append(
+            head + [_time(r["time"]), f"{r['peak_rss_mb']:.0f}", f"{r['load_rss_mb']:.0f}", stages]
+        )
+    out.append(
+        _table(
+            [
+                "job",
+                "subdivisions",
+                "faces",
+                "time s: median (min-max, runs)",
+                "peak MB",
+                "MB after load",
+                "stages (median s)",
+            ],
+            table,
+        )
+    )
+    fits = results.get("scaling_fit", {})
+    if fits:
+        out.append(
+            "\nFitted exponent b of time ~ faces^b: "
+            + ", ".join(
+                f"{'disk_conformal_map' if k == 'param' else 'remesh'} {b:.2f}"
+                for k, b in fits.items()
+            )
+            + ".\n"
+        )
+    return out
+
+
+# Targets ------------------------------------------------------------------------------
+
+MU_TARGETS = {"human_face.obj": 0.022, "hand.ply": 0.020, "human_brain.ply": 0.026}
+
+
+def _verdict(ok):
+    return "met" if ok else "**not met**"
+
+
+def _param_targets(results):
+    lines = []
+    qc = {
+        r["name"]: r
+        for r in results.get("param", [])
+        if r["tool"] == "qcremesh" and r["status"] == "ok"
+    }
+    for name, bound in MU_TARGETS.items():
+        if name in qc:
+            mu = qc[name]["mu_mean"]
+            lines.append(f"- mean abs mu on {name} <= {bound}: {mu:.4f}, {_verdict(mu <= bound)}")
+    if qc:
+        folded = {n: r["folded"] for n, r in qc.items() if r["folded"]}
+        lines.append(
+            f"- no folded faces on {len(qc)} disk meshes: {_verdict(not folded)}"
+            + (f" ({folded})" if folded else "")
+        )
+    if "hand.ply" in qc:
+        t = qc["hand.ply"]["time"]["median"]
+        lines.append(f"- disk_conformal_map of hand.ply <= 1 s: {t:.2f} s, {_verdict(t <= 1.0)}")
+    big = [
+        r
+        for r in results.get("scaling", [])
+        if r["kind"] == "param"
+        and r["status"] == "ok"
+        and r["name"] == "hand.ply"
+        and r.get("subdivide") == 2
+    ]
+    for r in big:
+        t, peak = r["time"]["median"], r["peak_rss_mb"]
+        lines.append(
+            f"- hand.ply subdivided twice ({r['faces_in']:,} faces) <= 15 s: {t:.2f} s, "
+            f"{_verdict(t <= 15)}; "
+            f"peak <= 3 GB: {peak / 1024:.2f} GB, {_verdict(peak <= 3072)}"
+        )
+    return lines
+
+
+def _remesh_targets(results):
+    rows = [r for r in results.get("remesh", []) if r["status"] == "ok"]
+    disks = {m["mesh"] for m in results["meshes"] if m["not_disk"] is None}
+    qc = {
+        (r["name"], r["faces"]): r for r in rows if r["tool"] == "qcremesh" and r["name"] in disks
+    }
+    if not qc:
+        reasons = {
+            r["reason"]
+            for r in results.get("remesh", [])
+            if r["tool"] == "qcremesh" and r["status"] != "ok" and r["name"] in disks
+        }
+        return [
+            "- qcremesh against the other remeshers: no qcremesh remesh results ("
+            + "; ".join(sorted(reasons))
+            + ")"
+        ]
+    table = []
+    for (name, faces), r in qc.items():
+        others = [
+            o for o in rows if o["tool"] != "qcremesh" and o["name"] == name and o["faces"] == faces
+        ]
+        if not others:
+            continue
+        q = r["quality"]
+        best = {
+            key: max(o["quality"][key] for o in others)
+            for key in ("q_min", "q_frac_above_0_9", "q_mean")
+        }
+        best["hausdorff"] = min(o["quality"]["hausdorff"] for o in others)
+        fastest = min(o["time"]["median"] for o in others)
+        table.append(
+            [
+                name,
+                f"{faces:,}",
+                f"{q['q_min']:.3f} / {best['q_min']:.3f} {_verdict(q['q_min'] > best['q_min'])}",
+                f"{q['q_frac_above_0_9']:.3f} / {best['q_frac_above_0_9']:.3f} "
+                f"{_verdict(q['q_frac_above_0_9'] > best['q_frac_above_0_9'])}",
+                f"{q['q_mean']:.3f} / {best['q_mean']:.3f} "
+                f"{_verdict(q['q_mean'] >= best['q_mean'])}",
+                f"{_pct(q['hausdorff'])} / {_pct(best['hausdorff'])} "
+                f"{_verdict(q['hausdorff'] <= best['hausdorff'])}",
+                f"{_num(r['time']['median'])} / {_num(fastest)}",
+            ]
+        )
+    return [
+        "\nqcremesh against the best of the other remeshers on each disk mesh (qcremesh / best "
+        "other):\n",
+        _table(
+            [
+                "mesh",
+                "faces",
+                "q min (ahead)",
+                "q>0.9 (ahead)",
+                "q mean (no worse)",
+                "Hausdorff % (no worse)",
+                "time s (qcremesh / fastest)",
+            ],
+            table,
+        ),
+    ]
+
+
+# Whole report -------------------------------------------------------------------------
+
+
+def markdown(results):
+    m = results["machine"]
+    s = results["settings"]
+    out = [
+        "# qcremesh benchmarks\n",
+        f"`{s['command']}` on {m['date']}, data from "
+        f"`{s['data']}`{' (quick mode)' if s['quick'] else ''}; "
+        f"{results['total_s']:.0f} s in all.\n",
+        "## Machine\n",
+        f"- CPU: {m['cpu']}, {m['cores']} cores ({m['usable_cores']} usable), {m['ram_gb']} GB RAM",
+        f"- {m['os']}, Python {m['python']}, sparse solver of qcremesh: {m['sparse_solver']}",
+        f"- qcremesh at git {m['git'] or 'unknown'}",
+        f"- load average (1 min) {m['load_average_start']:.1f} at the start, "
+        f"{m['load_average_end']:.1f} at the end "
+        "(the benchmark itself accounts for about 1; more means other processes shared the "
+        f"{m['usable_cores']} cores "
+        "and the times are noisier)",
+        "- " + ", ".join(f"{k} {v}" for k, v in m["packages"].items()) + "\n",
+        "Each tool runs on each mesh in a process of its own. Times are wall times of the tool's "
+        "call alone (loading the mesh excluded, conversion to and from the tool's own mesh type "
+        "included): the median of "
+        f"up to {s['runs']} runs, fewer once the runs add up to {s['budget_s']:.0f} s, with "
+        "min and max. Peak MB "
+        f"is the peak resident memory of that process.\n",
+    ]
+    if results.get("param"):
+        out += _param_section(results)
+    if results.get("remesh"):
+        out += _remesh_section(results)
+    if results.get("scaling"):
+        out += _scaling_section(results)
+    targets = _param_targets(results) + (_remesh_targets(results) if results.get("remesh") else [])
+    if targets:
+        out += ["## Targets (issues 2 and 3)\n"] + targets
+    if results["skipped_meshes"]:
+        out += ["\n## Files not benchmarked\n"] + [
+            f"- {r['mesh']}: {r['reason']}" for r in results["skipped_meshes"]
+        ]
+    return "\n".join(out) + "\n"
+
+
+# Plots --------------------------------------------------------------------------------
+
+
+def plots(results, folder):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.ticker import NullFormatter
+
+    param = [r for r in results.get("param", []) if r["status"] == "ok"]
+    remesh = [r for r in results.get("remesh", []) if r["status"] == "ok"]
+    scaling = [r for r in results.get("scaling", []) if r["status"] == "ok"]
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    panels = (
+        (axes[0], param, "param", "parameterization time", "input faces"),
+        (axes[1], remesh, "remesh", "remeshing time (input count and half)", "output faces"),
+    )
+    for ax, rows, kind, title, xlabel in panels:
+        for tool in dict.fromkeys(r["tool"] for r in rows):
+            mine = [r for r in rows if r["tool"] == tool]
+            faces = [r["quality"]["faces"] if kind == "remesh" else r["faces_in"] for r in mine]
+            ax.plot(faces, [r["time"]["median"] for r in mine], "o", label=TOOL_NAMES[tool])
+        big = [r for r in scaling if r["kind"] == kind]
+        if big:
+            faces = [r["faces_in"] for r in big]
+            ax.plot(
+                faces,
+                [r["time"]["median"] for r in big],
+                "k^--",
+                label=f"qcremesh, {big[0]['name']} subdivided",
+            )
+        ax.set(xscale="log", yscale="log", xlabel=xlabel, ylabel="wall time (s)", title=title)
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        if ax.has_data():
+            ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(folder / "time_vs_faces.png", dpi=120)
+    plt.close(fig)
+
+    if not remesh:
+        return
+    disks = {m["mesh"] for m in results["meshes"] if m["not_disk"] is None}
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    for ax, key, label in (
+        (axes[0], "q_mean", "mean radius ratio"),
+        (axes[1], "q_min", "min radius ratio"),
+    ):
+        for tool in dict.fromkeys(r["tool"] for r in remesh):
+            mine = [r for r in remesh if r["tool"] == tool and r["name"] in disks]
+            ax.scatter(
+                [r["time"]["median"] for r in mine],
+                [r["quality"][key] for r in mine],
+                label=TOOL_NAMES[tool],
+            )
+        ax.set(
+            xscale="log",
+            xlabel="wall time (s)",
+            ylabel=label,
+            title=f"{label} against time, disk meshes, both counts",
+        )
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(folder / "quality_vs_time.png", dpi=120)
+    plt.close(fig)

@@ -1,0 +1,253 @@
+"""Side-by-side benchmark of qcremesh against the tools users would pick instead.
+
+    python benchmarks/run.py [--data DIR] [--out DIR] [--quick] [--parts ...] [--tools ...]
+
+Three parts, each tool on each mesh in a process of its own (worker.py):
+
+* param: disk parameterizations of every disk mesh (qcremesh's Algorithm 1, Tutte, libigl
+  harmonic with arc-length boundary, libigl LSCM), with |mu| of the map disk -> surface,
+  folded faces and time: the analogue of Table 1 of Choi, Gu & Lui.
+* remesh: qcremesh.remesh, pymeshlab, pyacvd and gpytoolbox remesh_botsch at the input's
+  face count and at half of it, on every mesh of the folder, measured by the project's
+  quality module.
+* scaling: qcremesh's parameterization and remesh on one mesh subdivided 0, 1 and 2 times.
+
+Writes results.md, results.json and PNG plots to --out; prints the tables.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import hashlib
+import io
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import qcremesh
+import report
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+MESH_SUFFIXES = {".obj", ".ply", ".off", ".stl", ".vtk", ".vtu", ".mat"}
+QUICK_MESHES = ["fran_cut.ply", "venus.off"]
+PARAM_TOOLS = ["qcremesh", "tutte", "igl_harmonic", "igl_lscm"]
+REMESH_TOOLS = ["qcremesh", "pymeshlab", "pyacvd", "botsch"]
+SCALING_LEVELS = [0, 1, 2]
+
+
+def parse_args(argv):
+    p = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    p.add_argument(
+        "--data", type=Path, default=ROOT.parent / "shared" / "data", help="folder of meshes"
+    )
+    p.add_argument(
+        "--out", type=Path, help="results folder (default benchmarks/results, or results/quick)"
+    )
+    p.add_argument(
+        "--quick",
+        action="store_true",
+        help=f"only {' and '.join(QUICK_MESHES)}, scaling on the first",
+    )
+    p.add_argument(
+        "--parts",
+        default="param,remesh,scaling",
+        help="comma-separated subset of param,remesh,scaling",
+    )
+    p.add_argument("--tools", help="comma-separated subset of the tools (default: all)")
+    p.add_argument(
+        "--meshes", help="comma-separated file names in --data (default: all, or the quick ones)"
+    )
+    p.add_argument("--scaling-mesh", help="mesh subdivided for the scaling part (default hand.ply)")
+    p.add_argument("--runs", type=int, default=3, help="timed runs per job at most")
+    p.add_argument(
+        "--budget", type=float, default=5.0, help="stop repeating once the runs add up to this (s)"
+    )
+    p.add_argument("--timeout", type=float, default=600.0, help="per job (s)")
+    args = p.parse_args(argv)
+    args.parts = args.parts.split(",")
+    args.tools = args.tools.split(",") if args.tools else None
+    if args.out is None:
+        args.out = HERE / "results" / ("quick" if args.quick else "")
+    return args
+
+
+def read_quietly(path):
+    """qcremesh.read_mesh without the messages meshio prints on files it cannot read."""
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        return qcremesh.read_mesh(path)
+
+
+def inventory(folder, names):
+    """Readable meshes of the folder, each once (a file with the same vertices and faces as
+    an earlier one is skipped), and whether each is a disk. Returns (meshes, skipped)."""
+    # MATLAB files last: a mesh that is also there in a common format goes by that name.
+    if names:
+        paths = [folder / name for name in names]
+    else:
+        paths = sorted(folder.iterdir(), key=lambda p: (p.suffix == ".mat", p.name))
+    meshes, skipped, seen = [], [], {}
+    for path in paths:
+        if path.suffix.lower() not in MESH_SUFFIXES:
+            continue
+        try:
+            V, F = read_quietly(path)
+        except Exception as error:
+            skipped.append({"mesh": path.name, "reason": f"cannot read: {error}"})
+            continue
+        digest = hashlib.sha1(V.tobytes() + F.tobytes()).hexdigest()
+        if digest in seen:
+            skipped.append(
+                {"mesh": path.name, "reason": f"same vertices and faces as {seen[digest]}"}
+            )
+            continue
+        seen[digest] = path.name
+        try:
+            qcremesh.check_disk(V, F)
+            not_disk = None
+        except qcremesh.MeshError as error:
+            not_disk = str(error)
+        meshes.append(
+            {
+                "mesh": path.name,
+                "path": str(path),
+                "vertices": len(V),
+                "faces": len(F),
+                "not_disk": not_disk,
+            }
+        )
+    meshes.sort(key=lambda m: m["faces"])
+    return meshes, skipped
+
+
+def run_job(job, args):
+    """Run worker.py on one job; the row it reports, or the failure."""
+    spec = dict(job, runs=args.runs, budget=args.budget)
+    t0 = time.perf_counter()
+    try:
+        proc = subprocess.run(
+            [sys.executable, str(HERE / "worker.py"), json.dumps(spec)],
+            capture_output=True,
+            text=True,
+            timeout=args.timeout,
+            cwd=HERE,
+        )
+    except subprocess.TimeoutExpired:
+        row = {"status": "failed", "reason": f"timed out after {args.timeout:.0f} s"}
+    else:
+        lines = proc.stdout.strip().splitlines()
+        if proc.returncode == 0 and lines:
+            row = json.loads(lines[-1])
+        else:
+            last = (proc.stderr.strip().splitlines() or ["no output"])[-1]
+            row = {
+                "status": "failed",
+                "reason": f"worker exited with status {proc.returncode}: {last}",
+            }
+    row.update(job)
+    row["wall_s"] = time.perf_counter() - t0
+    print(report.progress_line(row), file=sys.stderr, flush=True)
+    return row
+
+
+def selected(tools, args):
+    return [t for t in tools if args.tools is None or t in args.tools]
+
+
+def parameterization_jobs(meshes, args):
+    for m in meshes:
+        if m["not_disk"] is None:
+            for tool in selected(PARAM_TOOLS, args):
+                yield {
+                    "kind": "param",
+                    "tool": tool,
+                    "mesh": m["path"],
+                    "name": m["mesh"],
+                    "faces_in": m["faces"],
+                }
+
+
+def remesh_rows(meshes, args):
+    """Every remesher on every mesh at its face count and at half; qcremesh remeshes disks
+    only, so the other meshes get a skipped row with the reason instead of a job."""
+    rows = []
+    for m in meshes:
+        for half in (False, True):
+            for tool in selected(REMESH_TOOLS, args):
+                job = {
+                    "kind": "remesh",
+                    "tool": tool,
+                    "mesh": m["path"],
+                    "name": m["mesh"],
+                    "faces_in": m["faces"],
+                    "half": half,
+                    "faces": m["faces"] // 2 if half else m["faces"],
+                }
+                if tool == "qcremesh" and m["not_disk"] is not None:
+                    rows.append(dict(job, status="skipped", reason=f"not a disk: {m['not_disk']}"))
+                else:
+                    rows.append(run_job(job, args))
+    return rows
+
+
+def scaling_rows(path, args):
+    """qcremesh on the mesh subdivided 0, 1, 2 times; the remesh at the subdivided face
+    count, not measured (the remesh part does that). A tool skipped at level 0 is not
+    tried further."""
+    rows = []
+    if not selected(["qcremesh"], args):
+        return rows
+    for kind in ("param", "remesh"):
+        for level in SCALING_LEVELS:
+            job = {"kind": kind, "tool": "qcremesh", "mesh": str(path), "name": path.name}
+            # The remesh part measures the output; here only time and memory count.
+            row = run_job(dict(job, subdivide=level, measure=kind == "param"), args)
+            rows.append(row)
+            if row["status"] == "skipped":
+                break
+    return rows
+
+
+def main(argv=None):
+    args = parse_args(argv)
+    names = args.meshes.split(",") if args.meshes else None
+    if args.quick and names is None:
+        names = [n for n in QUICK_MESHES if (args.data / n).is_file()]
+    if not args.data.is_dir() or names == []:
+        sys.exit(f"run.py: no meshes to benchmark in {args.data}")
+    meshes, skipped = inventory(args.data, names)
+    scaling_name = args.scaling_mesh or (names[0] if args.quick else "hand.ply")
+
+    t0 = time.perf_counter()
+    results = {
+        "machine": report.machine(),
+        "settings": report.settings(args),
+        "meshes": meshes,
+        "skipped_meshes": skipped,
+    }
+    if "param" in args.parts:
+        results["param"] = [run_job(job, args) for job in parameterization_jobs(meshes, args)]
+    if "remesh" in args.parts:
+        results["remesh"] = remesh_rows(meshes, args)
+    if "scaling" in args.parts and (args.data / scaling_name).is_file():
+        results["scaling"] = scaling_rows(args.data / scaling_name, args)
+        results["scaling_fit"] = report.fit_exponents(results["scaling"])
+    results["total_s"] = time.perf_counter() - t0
+    results["machine"]["load_average_end"] = os.getloadavg()[0]
+
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "results.json").write_text(json.dumps(results, indent=1) + "\n")
+    markdown = report.markdown(results)
+    (args.out / "results.md").write_text(markdown)
+    report.plots(results, args.out)
+    print(markdown)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,180 @@
+"""Runs one tool on one mesh, in a process of its own, and prints one line of JSON.
+
+    python worker.py '{"kind": "param" | "remesh", "tool": ..., "mesh": PATH,
+                       "subdivide": 0, "faces": N, "runs": 3, "budget": 5}'
+
+Remesh only: ``faces`` defaults to the face count of the (subdivided) input, and with
+``"measure": false`` the output is not measured (time and memory only). Loading
+and subdividing the mesh are not timed. The tool runs up to ``runs`` times, fewer when
+the runs so far add up to ``budget`` seconds, at least once; the wall time of each call
+is recorded. Peak memory is the peak resident set of this process, read before anything
+is measured (so it includes Python, the libraries and the loaded mesh). The measures
+then come from the same code for every tool: ``qcremesh.beltrami_coefficient`` for
+parameterizations and ``qcremesh.geometry.quality.mesh_quality`` for remeshers.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+
+import numpy as np
+
+import qcremesh
+import tools
+from qcremesh.geometry.operators import signed_doublearea
+from qcremesh.geometry.quality import mesh_quality
+from qcremesh.mesh.subdivide import upsample
+from qcremesh.mesh.topology import boundary_loop
+
+# A calibrated face count within this fraction of the request is accepted.
+FACE_TOLERANCE = 0.02
+MAX_CALIBRATION_RUNS = 4
+
+
+def memory_mb(field):
+    """A memory figure of this process from /proc/self/status: VmRSS (resident now) or
+    VmHWM (peak resident). Unlike getrusage's ru_maxrss, VmHWM starts afresh at exec,
+    so it is this tool's peak, not that of the driver that started it."""
+    with open("/proc/self/status") as f:
+        kb = next(line.split()[1] for line in f if line.startswith(field + ":"))
+    return int(kb) / 1024
+
+
+def timed(call, *args):
+    t0 = time.perf_counter()
+    out = call(*args)
+    return out, time.perf_counter() - t0
+
+
+def repeat(call, args, times, runs, budget):
+    """Call until there are ``runs`` times or they add up to ``budget``; the last output."""
+    out = None
+    while len(times) < runs and sum(times) < budget:
+        out, t = timed(call, *args)
+        times.append(t)
+    return out
+
+
+def time_summary(times):
+    return {
+        "median": float(np.median(times)),
+        "min": float(min(times)),
+        "max": float(max(times)),
+        "runs": len(times),
+    }
+
+
+def median_stages(stages):
+    return {key: float(np.median([s[key] for s in stages])) for key in stages[0]}
+
+
+def parameterization_measures(V, F, uv):
+    """|mu| of the map disk -> surface and folded faces, relative to the orientation of
+    the majority of the faces (a map may come out mirrored; it is mirrored back)."""
+    area = signed_doublearea(uv, F)
+    mirrored = bool(np.count_nonzero(area < 0) > np.count_nonzero(area > 0))
+    if mirrored:
+        uv = uv * np.array([-1.0, 1.0])
+        area = -area
+    mu = np.abs(qcremesh.beltrami_coefficient(uv, F, V))
+    radius = np.hypot(*uv[boundary_loop(F)].T)
+    return {
+        "mu_mean": float(mu.mean()),
+        "mu_median": float(np.median(mu)),
+        "mu_max": float(mu.max()),
+        "folded": int(np.count_nonzero(area <= 0)),
+        "mirrored": mirrored,
+        "disk": bool(np.max(np.abs(radius - 1.0)) < 1e-6),
+    }
+
+
+def run_parameterization(job, V, F):
+    call = tools.PARAMETERIZATIONS[job["tool"]]
+    stages = []
+
+    def run():
+        uv, stage = call(V, F)
+        stages.append(stage)
+        return uv
+
+    times = []
+    uv = repeat(run, (), times, job["runs"], job["budget"])
+    peak = memory_mb("VmHWM")
+    result = {
+        "time": time_summary(times),
+        "peak_rss_mb": peak,
+        **parameterization_measures(V, F, uv),
+    }
+    if stages[0]:
+        result["stages"] = median_stages(stages)
+    return result
+
+
+def run_remesher(job, V, F):
+    """Remesh to ``job["faces"]`` faces. A tool that takes an edge length is run with the length
+    of equilateral triangles of that count, then corrected by sqrt(faces / wanted) until
+    within FACE_TOLERANCE; the run with the final length is the first timed run."""
+    tool = tools.REMESHERS[job["tool"]]
+    wanted = job.get("faces", len(F))
+    stages = []
+
+    def run(param):
+        out = tool.run(V, F, param)
+        stages.append(out[2])
+        return out
+
+    param = tool.initial(V, F, wanted)
+    calibration = 0
+    while True:
+        stages.clear()
+        out, t = timed(run, param)
+        calibration += 1
+        faces = len(out[1])
+        if (
+            not tool.by_length
+            or abs(faces - wanted) <= FACE_TOLERANCE * wanted
+            or calibration == MAX_CALIBRATION_RUNS
+        ):
+            break
+        param *= np.sqrt(faces / wanted)
+    times = [t]
+    U, G, _ = repeat(run, (param,), times, job["runs"], job["budget"]) or out
+    peak = memory_mb("VmHWM")
+    result = {
+        "time": time_summary(times),
+        "peak_rss_mb": peak,
+        "param": param,
+        "calibration_runs": calibration if tool.by_length else 0,
+        "setting": tool.setting,
+        "faces_out": len(G),
+    }
+    if job.get("measure", True):
+        U = np.asarray(U, dtype=np.float64)
+        result["quality"] = mesh_quality(U, np.asarray(G, dtype=np.int64), reference=(V, F))
+    if stages[0]:
+        result["stages"] = median_stages(stages)
+    return result
+
+
+def main():
+    job = json.loads(sys.argv[1])
+    V, F = qcremesh.read_mesh(job["mesh"])
+    V, F = upsample(V, F, job.get("subdivide", 0))
+    result = {"vertices_in": len(V), "faces_in": len(F), "load_rss_mb": memory_mb("VmRSS")}
+    try:
+        if job["kind"] == "param":
+            result.update(run_parameterization(job, V, F))
+        else:
+            result.update(run_remesher(job, V, F))
+        result["status"] = "ok"
+    except tools.Unavailable as reason:
+        result.update(status="skipped", reason=str(reason))
+    except Exception as error:  # a tool that cannot take this mesh: reported, not fatal
+        result.update(status="failed", reason=f"{type(error).__name__}: {error}")
+    print(json.dumps(result))
+
+
+if __name__ == "__main__":
+    main()
