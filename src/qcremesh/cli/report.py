@@ -8,11 +8,11 @@ from __future__ import annotations
 
 import html
 import json
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
+
+from ..mesh.io import atomic_output
 
 __all__ = ["plot_disk_map", "plot_radius_ratio", "plot_disk_levels", "write_remesh_report"]
 
@@ -30,15 +30,8 @@ def _pyplot():
 
 def _save(fig, path):
     """Save a figure atomically (no partial file on failure)."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(suffix=path.suffix, prefix=".tmp-", dir=path.parent)
-    os.close(fd)
-    try:
-        fig.savefig(tmp, dpi=120, metadata={"Software": None} if path.suffix == ".png" else None)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, dpi=120, metadata={"Software": None} if Path(path).suffix == ".png" else None)
 
 
 def plot_disk_map(path, uv, F, mu, title=None):
@@ -133,11 +126,8 @@ def plot_disk_levels(path, meshes, titles):
 
 
 def _write_text(path, text):
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(suffix=path.suffix, prefix=".tmp-", dir=path.parent)
-    with os.fdopen(fd, "w") as fh:
-        fh.write(text)
-    os.replace(tmp, path)
+    with atomic_output(path) as tmp:
+        Path(tmp).write_text(text)
 
 
 def write_remesh_report(folder, name, original, result, quality, times):

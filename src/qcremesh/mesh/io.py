@@ -11,11 +11,12 @@ from __future__ import annotations
 
 import os
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["MeshReadError", "read_mesh", "write_mesh"]
+__all__ = ["MeshReadError", "read_mesh", "write_mesh", "atomic_output"]
 
 
 class MeshReadError(ValueError):
@@ -148,14 +149,26 @@ def write_mesh(path, V, F, *, uv=None, data=None):
         uv = np.asarray(uv, dtype=np.float64)
         if uv.shape != (len(V), 2):
             raise ValueError(f"uv must be ({len(V)}, 2), got shape {uv.shape}")
-    suffix = path.suffix.lower()
-    fd, tmp = tempfile.mkstemp(suffix=suffix, prefix=".tmp-", dir=path.parent if str(path.parent) else ".")
-    os.close(fd)
-    try:
-        if suffix == ".obj":
+    with atomic_output(path) as tmp:
+        if path.suffix.lower() == ".obj":
             _write_obj(tmp, V, F, uv)
         else:
             _write_meshio(tmp, V, F, uv, data)
+
+
+@contextmanager
+def atomic_output(path):
+    """Context for writing a file that appears only once complete.
+
+    Yields the path of a temporary file in the same folder (with the same extension, so
+    writers that choose the format by extension still work); on success it is renamed to
+    ``path``, on any error it is removed and ``path`` is left untouched.
+    """
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(suffix=path.suffix.lower(), prefix=".tmp-", dir=path.parent)
+    os.close(fd)
+    try:
+        yield tmp
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
