@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry.operators import face_gradients
+from ..mesh.topology import vertex_face_incidence
 
 __all__ = [
     "complex_derivatives",
@@ -172,12 +173,10 @@ def face_to_vertex(F, values, n=None):
     F = np.asarray(F)
     n = int(F.max()) + 1 if n is None else n
     values = np.asarray(values)
-    count = np.bincount(F.ravel(), minlength=n)
-    flat = values.reshape(len(F), -1)
-    out = np.zeros((n, flat.shape[1]), dtype=flat.dtype)
-    for k in range(3):
-        np.add.at(out, F[:, k], flat)
-    out /= np.maximum(count, 1)[:, None]
+    m = len(F)
+    incidence = vertex_face_incidence(F, n)
+    count = np.maximum(np.diff(incidence.indptr), 1)
+    out = incidence @ values.reshape(m, -1) / count[:, None]
     return out.reshape((n,) + values.shape[1:])
 
 

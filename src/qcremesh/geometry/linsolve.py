@@ -142,9 +142,10 @@ def dirichlet_solve(L, known, values, solve_free=None):
     free[known] = False
     free = np.flatnonzero(free)
     values = np.asarray(values)
+    rows = L[free]
     if solve_free is None:
-        solve_free = spd_solver(-L[free][:, free])
-    rhs = L[free][:, known] @ values
+        solve_free = spd_solver(-rows[:, free])
+    rhs = rows[:, known] @ values
     x = np.zeros((n,) + values.shape[1:], dtype=np.result_type(values, np.float64))
     x[known] = values
     x[free] = solve_free(rhs)

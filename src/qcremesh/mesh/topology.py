@@ -26,6 +26,7 @@ __all__ = [
     "unreferenced_vertices",
     "degenerate_faces",
     "adjacency_matrix",
+    "vertex_face_incidence",
 ]
 
 
@@ -151,6 +152,22 @@ def adjacency_matrix(F, n=None):
     ones = np.ones(2 * len(E))
     A = sp.coo_matrix((ones, (np.r_[E[:, 0], E[:, 1]], np.r_[E[:, 1], E[:, 0]])), shape=(n, n))
     return A.tocsr()
+
+
+def vertex_face_incidence(F, n=None):
+    """Vertex-face incidence, (n, m) CSR with a one where vertex i is a corner of face f;
+    row i lists the faces around vertex i.
+
+    Parameters
+    ----------
+    F : (m, 3) int
+    n : int, optional
+        Number of vertices; ``F.max() + 1`` by default.
+    """
+    F = np.asarray(F)
+    n = int(F.max()) + 1 if n is None else n
+    m = len(F)
+    return sp.csr_matrix((np.ones(3 * m), (F.ravel(), np.repeat(np.arange(m), 3))), shape=(n, m))
 
 
 def connected_components(F, n=None):

@@ -16,21 +16,14 @@ where it is, so the disk mesh stays an embedding and the surface mesh its orient
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..adaptive.landmarks import boundary_angles, interpolate_on_boundary
 from ..geometry.distance import point_triangle_distance
 from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import signed_doublearea
-from ..mesh.topology import adjacency_matrix, boundary_loop, edges
+from ..mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
 
 __all__ = ["relax_on_surface", "closest_point_near"]
-
-
-def _vertex_faces(F, n):
-    """CSR incidence: the faces around each vertex, (n, m)."""
-    m = len(F)
-    return sp.csr_matrix((np.ones(3 * m), (F.ravel(), np.repeat(np.arange(m), 3))), shape=(n, m))
 
 
 def closest_point_near(P, face, V, F, vertex_faces, rounds=4):
@@ -153,7 +146,7 @@ def relax_on_surface(disk_uv, F, V, uv, Fo, *, iterations=10, step=0.5, pinned=N
     A = adjacency_matrix(Fo, k)
     deg = np.asarray(A.sum(axis=1)).ravel()
     E = edges(Fo)
-    vertex_faces = _vertex_faces(F, len(V))
+    vertex_faces = vertex_face_incidence(F, len(V))
 
     face = np.zeros(k, dtype=np.int64)
     X = np.zeros((k, 3))
