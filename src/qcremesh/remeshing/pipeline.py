@@ -88,7 +88,7 @@ class RemeshResult:
     times: dict = field(default_factory=dict)
 
 
-def project_to_surface(disk_uv, F, V, bnd, query_uv, on_circle, values=()):
+def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
     """Lift points of the disk onto the surface through a disk parameterization.
 
     Interior points are located in the parameterization's triangles and interpolated
@@ -100,20 +100,19 @@ def project_to_surface(disk_uv, F, V, bnd, query_uv, on_circle, values=()):
     disk_uv : (n, 2) float
         Parameterization of the surface.
     F : (m, 3) int
-    V : (n, 3) float
     bnd : (b,) int
         Boundary loop of the surface.
     query_uv : (k, 2) float
     on_circle : (k,) bool
-    values : sequence of (n,) or (n, d) arrays
-        Further per-vertex data to interpolate the same way.
+    fields : sequence of (n,) or (n, d) arrays
+        Per-vertex data of the surface to interpolate: its positions (n, 3), attributes.
 
     Returns
     -------
     list of arrays
-        The positions (k, 3), then each of ``values`` at the query points.
+        Each of ``fields`` at the query points.
     """
-    fields = [np.asarray(V, dtype=np.float64)] + [np.asarray(v, dtype=np.float64) for v in values]
+    fields = [np.asarray(f, dtype=np.float64) for f in fields]
     out = [np.zeros((len(query_uv),) + f.shape[1:]) for f in fields]
     inner = ~on_circle
     if inner.any():
@@ -278,20 +277,24 @@ def remesh(
         )
         done("teichmuller")
 
+    Vo = None
     if relax > 0:
         stage("relax")
         pinned = np.zeros(len(uv), dtype=bool)
         pinned[: len(theta)] = corner if method != "uniform" else False
-        uv, _ = relax_on_surface(dm.uv, F, V, uv, Fo, iterations=relax, pinned=pinned)
+        uv, Vo = relax_on_surface(dm.uv, F, V, uv, Fo, iterations=relax, pinned=pinned)
         done("relax")
 
     stage("project")
     on_circle = np.zeros(len(uv), dtype=bool)
     on_circle[boundary_edges(Fo).ravel()] = True
     names = sorted(data) if data else []
-    lifted = project_to_surface(dm.uv, F, V, bnd, uv, on_circle, [data[k] for k in names])
-    Vo = lifted[0]
-    out_data = dict(zip(names, lifted[1:]))
+    # The relaxation already lifted the vertices; only the attributes are left then.
+    fields = ([V] if Vo is None else []) + [data[k] for k in names]
+    lifted = project_to_surface(dm.uv, F, bnd, uv, on_circle, fields) if fields else []
+    if Vo is None:
+        Vo = lifted.pop(0)
+    out_data = dict(zip(names, lifted))
     levels_out = [(Vo[: len(u)], f) for u, f in hierarchy]
     done("project")
     return RemeshResult(Vo, Fo, uv, levels_out, out_data, hierarchy, mu, stats, times)
