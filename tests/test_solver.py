@@ -1,11 +1,12 @@
 import numpy as np
 import pytest
+import scipy.sparse as sp
 
 from conftest import DATA, grid_disk
 from qcremesh.beltrami.coefficient import beltrami_coefficient
 from qcremesh.beltrami.solver import beltrami_tensor, generalized_laplacian, linear_beltrami_solver
 from qcremesh.geometry import linsolve
-from qcremesh.geometry.operators import cotmatrix
+from qcremesh.geometry.operators import cotmatrix, uniform_laplacian
 from qcremesh.mesh.io import read_mesh
 from qcremesh.mesh.topology import boundary_loop
 from qcremesh.param.tutte import tutte_embedding
@@ -83,3 +84,26 @@ def test_spd_solver_backends(backend):
     np.testing.assert_allclose(A @ solve(rhs.real), rhs.real, atol=1e-10)
     with pytest.raises(ValueError, match="unknown solver backend"):
         linsolve.spd_solver(A, "magic")
+
+
+@pytest.mark.parametrize("backend", ["superlu", "pardiso"])
+def test_spd_solver_refactorize(backend):
+    """Refactorizing with another matrix of the same pattern (uniform, then cotangent
+    Laplacian of one mesh) solves with the new matrix; another pattern is factorized anew."""
+    if backend == "pardiso" and linsolve._pypardiso is None:
+        pytest.skip("pypardiso not installed")
+    uv, F = grid_disk(8, jitter=0.2)
+    b = boundary_loop(F)
+    free = np.setdiff1d(np.arange(len(uv)), b)
+    A1 = -uniform_laplacian(F)[free][:, free]
+    A2 = -cotmatrix(uv, F)[free][:, free]
+    rhs = np.random.default_rng(1).normal(size=(len(free), 3))
+    solve = linsolve.spd_solver(A1, backend)
+    np.testing.assert_allclose(A1 @ solve(rhs), rhs, atol=1e-10)
+    assert solve.refactorize(A2) is solve
+    np.testing.assert_allclose(A2 @ solve(rhs), rhs, atol=1e-10)
+    band = sp.diags([np.full(len(free) - 5, 0.1)] * 2, [5, -5])
+    A3 = A2 + 0.5 * sp.eye(len(free)) + band
+    np.testing.assert_allclose(A3 @ solve.refactorize(A3)(rhs), rhs, atol=1e-10)
+    with pytest.raises(ValueError, match=r"refactorize needs a \(\d+, \d+\) matrix"):
+        solve.refactorize(sp.eye(3))

@@ -63,3 +63,9 @@ def test_adjacency_matrix():
     F = np.array([[0, 1, 2], [2, 1, 3]])
     A = t.adjacency_matrix(F).toarray()
     assert (A == A.T).all() and A.sum() == 10 and A[0, 3] == 0
+
+
+def test_unique_integers_matches_numpy():
+    a = np.random.default_rng(0).integers(0, 50, size=(40, 3))
+    np.testing.assert_array_equal(t.unique_integers(a), np.unique(a))
+    assert t.unique_integers(np.zeros(0, dtype=np.int64)).shape == (0,)

@@ -77,19 +77,20 @@ def generalized_laplacian(uv, F, mu):
     d = np.roll(P, -2, axis=1) - np.roll(P, -1, axis=1)  # P[k+2] - P[k+1]
     wx, wy = -d[:, :, 1], d[:, :, 0]
     area4 = 2.0 * doublearea(uv, F)
-    rows, cols, vals = [], [], []
-    for i in range(3):
-        for j in range(3):
-            k_ij = (
-                a1 * wx[:, i] * wx[:, j]
-                + a2 * (wx[:, i] * wy[:, j] + wx[:, j] * wy[:, i])
-                + a3 * wy[:, i] * wy[:, j]
-            ) / area4
-            rows.append(F[:, i])
-            cols.append(F[:, j])
-            vals.append(-k_ij)
+    # Off-diagonal entries of the pairs (0, 1), (1, 2), (2, 0); the diagonal follows from
+    # the zero row sums (the w_i of a face sum to zero).
+    i, j = np.array([0, 1, 2]), np.array([1, 2, 0])
+    off = -(
+        a1[:, None] * wx[:, i] * wx[:, j]
+        + a2[:, None] * (wx[:, i] * wy[:, j] + wx[:, j] * wy[:, i])
+        + a3[:, None] * wy[:, i] * wy[:, j]
+    ) / area4[:, None]
+    rows, cols = F[:, i].ravel(), F[:, j].ravel()
+    off = off.ravel()
+    diag = -np.bincount(np.r_[rows, cols], weights=np.r_[off, off], minlength=n)
     return sp.csr_matrix(
-        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
+        (np.r_[off, off, diag], (np.r_[rows, cols, np.arange(n)], np.r_[cols, rows, np.arange(n)])),
+        shape=(n, n),
     )
 
 

@@ -4,39 +4,54 @@ The factorization is PARDISO (through the optional ``pypardiso`` package, Intel 
 it is installed, and SuperLU from scipy otherwise. SuperLU is run in symmetric mode with
 a minimum-degree ordering of A + A^T and no pivoting, which is what an SPD matrix allows
 and several times faster than its default.
+
+A factorization can be redone for another matrix with the same sparsity pattern
+(:meth:`SPDSolver.refactorize`): the fill-reducing ordering and the symbolic analysis,
+which cost more than the numerical factorization on meshes, are kept. The Tutte
+embedding and the linear Beltrami solver of the same mesh share them this way.
 """
 
 from __future__ import annotations
 
 import os
+import weakref
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-__all__ = ["spd_solver", "solver_backend", "dirichlet_solve"]
+__all__ = ["SPDSolver", "spd_solver", "solver_backend", "dirichlet_solve"]
 
 try:
     import pypardiso as _pypardiso
 except ImportError:  # the optional "fast" extra
     _pypardiso = None
 
+# PARDISO settings (0-based iparm indices of the MKL documentation): parallel nested
+# dissection ordering, pivot perturbation 1e-8 as for SPD matrices, two-level parallel
+# factorization. Measured on the Tutte matrix of a 850k-vertex mesh, 2 cores: analysis
+# 2.2 -> 1.8 s, factorization 1.3 -> 0.7 s, solve 0.67 -> 0.09 s against MKL's defaults.
+_PARDISO_IPARM = {0: 1, 1: 3, 9: 8, 23: 1}
 
-class _PardisoFactor:
-    """PARDISO Cholesky factor of an SPD matrix; releases MKL's memory when collected
-    (pypardiso itself keeps it until told).
+
+class _Pardiso:
+    """A PARDISO Cholesky factorization (matrix type 2, real SPD) of the upper triangle of
+    a matrix; numerical refactorization (phase 22) reuses the analysis (phase 11).
 
     pypardiso searches the file system for MKL each time a solver is made (about 0.2 s);
-    the path found the first time is handed to the next ones.
+    the path found the first time is handed to the next ones. MKL's memory is released
+    when the object is collected or at exit (pypardiso itself keeps it until told).
     """
 
     mkl_path = None
 
-    def __init__(self, A):
-        self.upper = sp.triu(A, format="csr")
-        self.upper.sort_indices()
+    def __init__(self, upper):
         self.solver = self._new_solver()
-        self.solver.factorize(self.upper)
+        for i, value in _PARDISO_IPARM.items():
+            self.solver.set_iparm(i + 1, value)
+        self.upper = upper
+        weakref.finalize(self, self.solver.free_memory, True)
+        self._run(12, np.zeros((upper.shape[0], 1)))
 
     @classmethod
     def _new_solver(cls):
@@ -50,11 +65,115 @@ class _PardisoFactor:
         finally:
             del os.environ["PYPARDISO_MKL_RT"]
 
-    def __call__(self, B):
-        return self.solver.solve(self.upper, np.ascontiguousarray(B))
+    def _run(self, phase, B):
+        self.solver.set_phase(phase)
+        return self.solver._call_pardiso(self.upper, np.asfortranarray(B, dtype=np.float64))
 
-    def __del__(self):
-        self.solver.free_memory(everything=True)
+    def refactorize(self, upper):
+        self.upper = upper
+        self._run(22, np.zeros((upper.shape[0], 1)))
+
+    def solve(self, B):
+        return self._run(33, B)
+
+
+class _SuperLU:
+    """SuperLU in symmetric mode; refactorization reuses the column ordering."""
+
+    def __init__(self, A):
+        lu = self._factor(A, "COLAMD")
+        self.perm = lu.perm_c
+        self.lu = self._factor(A[self.perm][:, self.perm], "NATURAL")
+
+    @staticmethod
+    def _factor(A, ordering):
+        return spla.splu(
+            sp.csc_matrix(A), permc_spec=ordering, diag_pivot_thresh=0.0, options={"SymmetricMode": True}
+        )
+
+    def refactorize(self, A):
+        self.lu = self._factor(A[self.perm][:, self.perm], "NATURAL")
+
+    def solve(self, B):
+        X = np.empty_like(B)
+        X[self.perm] = self.lu.solve(B[self.perm])
+        return X
+
+
+class SPDSolver:
+    """``solve(b)`` returns ``A^{-1} b`` for a factorized sparse SPD matrix A.
+
+    ``b`` is (k,) or (k, r), real or complex; the result has its shape and kind. Made by
+    :func:`spd_solver`.
+    """
+
+    def __init__(self, A, backend):
+        self.shape = A.shape
+        self.pattern = (A.indptr, A.indices)
+        self.backend = backend
+        if A.shape[0] == 0:
+            self._factor = None
+        elif backend == "pardiso":
+            self._factor = _Pardiso(self._upper(A))
+        else:
+            self._factor = _SuperLU(A)
+
+    @staticmethod
+    def _upper(A):
+        upper = sp.triu(A, format="csr")
+        upper.sort_indices()
+        return upper
+
+    def refactorize(self, A):
+        """Factorize another matrix with the same sparsity pattern, in place.
+
+        The ordering and the symbolic analysis of the first factorization are reused;
+        afterwards this solver solves with ``A``. A matrix with another pattern is
+        factorized from scratch.
+
+        Parameters
+        ----------
+        A : (k, k) sparse matrix
+            Symmetric positive definite, of the shape of the first one.
+
+        Returns
+        -------
+        SPDSolver
+            ``self``.
+        """
+        A = _csr(A)
+        if A.shape != self.shape:
+            raise ValueError(f"refactorize needs a {self.shape} matrix, got {A.shape}")
+        same = all(np.array_equal(a, b) for a, b in zip(self.pattern, (A.indptr, A.indices)))
+        if self._factor is None:
+            return self
+        if not same:
+            self.__init__(A, self.backend)
+        elif self.backend == "pardiso":
+            self._factor.refactorize(self._upper(A))
+        else:
+            self._factor.refactorize(A)
+        return self
+
+    def __call__(self, b):
+        b = np.asarray(b)
+        if self._factor is None:
+            return np.zeros_like(b, dtype=np.result_type(b, np.float64))
+        vector = b.ndim == 1
+        B = b.reshape(len(b), -1)
+        if np.iscomplexobj(B):
+            r = B.shape[1]
+            X = self._factor.solve(np.hstack([B.real, B.imag]).astype(np.float64)).reshape(len(b), -1)
+            X = X[:, :r] + 1j * X[:, r:]
+        else:
+            X = np.asarray(self._factor.solve(B.astype(np.float64))).reshape(len(b), -1)
+        return X[:, 0] if vector else X
+
+
+def _csr(A):
+    A = sp.csr_matrix(A, dtype=np.float64)
+    A.sort_indices()
+    return A
 
 
 def solver_backend():
@@ -74,44 +193,17 @@ def spd_solver(A, backend=None):
 
     Returns
     -------
-    solve : callable
+    SPDSolver
         ``solve(b)`` for ``b`` of shape (k,) or (k, r), real or complex, returns
-        ``A^{-1} b`` with the shape and kind of ``b``.
+        ``A^{-1} b`` with the shape and kind of ``b``; ``solve.refactorize(A2)`` redoes
+        the numerical factorization for a matrix of the same pattern.
     """
     backend = backend or solver_backend()
-    A = sp.csr_matrix(A, dtype=np.float64)
-    if A.shape[0] == 0:
-        return lambda b: np.zeros_like(np.asarray(b, dtype=np.result_type(b, np.float64)))
-    if backend == "pardiso":
-        if _pypardiso is None:
-            raise ImportError("the pardiso backend needs the pypardiso package")
-        real_solve = _PardisoFactor(A)
-
-    elif backend == "superlu":
-        lu = spla.splu(
-            A.tocsc(),
-            permc_spec="COLAMD",
-            diag_pivot_thresh=0.0,
-            options={"SymmetricMode": True},
-        )
-        real_solve = lu.solve
-    else:
+    if backend not in ("pardiso", "superlu"):
         raise ValueError(f"unknown solver backend {backend!r}")
-
-    def solve(b):
-        b = np.asarray(b)
-        vector = b.ndim == 1
-        B = b.reshape(len(b), -1)
-        if np.iscomplexobj(B):
-            r = B.shape[1]
-            X = real_solve(np.hstack([B.real, B.imag]).astype(np.float64))
-            X = X.reshape(len(b), -1)
-            X = X[:, :r] + 1j * X[:, r:]
-        else:
-            X = np.asarray(real_solve(B.astype(np.float64))).reshape(len(b), -1)
-        return X[:, 0] if vector else X
-
-    return solve
+    if backend == "pardiso" and _pypardiso is None:
+        raise ImportError("the pardiso backend needs the pypardiso package")
+    return SPDSolver(_csr(A), backend)
 
 
 def dirichlet_solve(L, known, values, solve_free=None):
@@ -126,13 +218,13 @@ def dirichlet_solve(L, known, values, solve_free=None):
     L : (n, n) sparse, symmetric, negative semi-definite
     known : (k,) int
     values : (k,) or (k, r) float or complex
-    solve_free : callable, optional
-        A factorized ``(-L_II)^{-1}`` to reuse (as returned by ``spd_solver``).
+    solve_free : SPDSolver, optional
+        A factorization of -L_II to reuse (as returned by ``spd_solver``).
 
     Returns
     -------
     x : (n,) or (n, r)
-    solve_free : callable
+    solve_free : SPDSolver
         The factorization of -L_II, for further solves with the same matrix.
     """
     L = sp.csr_matrix(L)

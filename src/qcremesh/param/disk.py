@@ -24,7 +24,8 @@ flux (L G)_b, and these fluxes sum to 1. Each boundary vertex goes to the middle
 arc, theta_b = 2 pi (sum_{c < b} omega_c + omega_b / 2), and the interior follows from the
 LBS with those boundary values. Measured against the alternatives on the meshes of
 ``../shared/data`` (see README): this is the most accurate of the linear methods tried
-and needs a single factorization, reused for three solves.
+and needs a single factorization, reused for three solves; its ordering and symbolic
+analysis are those of the Tutte embedding's matrix, which has the same pattern.
 
 Normalization of the Moebius freedom: the vertex p that maximizes the torsion function
 (-L u = vertex areas, u = 0 on the boundary; its maximum is the deepest point of the
@@ -37,7 +38,8 @@ edge weights, and then the discrete harmonic map can fold faces. Folded faces (s
 area <= 0) are detected, and the map is solved again with the negative weights raised
 to a small positive floor: with positive weights and the boundary on a circle, Tutte's
 and Floater's theorems make the map bijective. The number of folds found and repaired
-is reported.
+is reported. The repair's matrix has the same pattern too, so it costs one numerical
+factorization.
 """
 
 from __future__ import annotations
@@ -133,7 +135,7 @@ def harmonic_measure(L, bnd, p, solve_interior=None):
     solve_interior : callable
     """
     n = L.shape[0]
-    interior = np.setdiff1d(np.arange(n), bnd)
+    interior = _complement(bnd, n)
     if solve_interior is None:
         solve_interior = spd_solver(-L[interior][:, interior])
     e = np.zeros(len(interior))
@@ -141,6 +143,13 @@ def harmonic_measure(L, bnd, p, solve_interior=None):
     G = np.zeros(n)
     G[interior] = solve_interior(e)
     return (L[bnd] @ G), solve_interior
+
+
+def _complement(indices, n):
+    """The vertices 0..n-1 not in ``indices``, increasing."""
+    keep = np.ones(n, dtype=bool)
+    keep[indices] = False
+    return np.flatnonzero(keep)
 
 
 def _clamped(L, floor):
@@ -180,7 +189,7 @@ def disk_conformal_map(V, F, *, check=True):
     t1 = time.perf_counter()
     times["validate"] = t1 - t0
 
-    tutte = tutte_embedding(F, bnd, n)
+    tutte, solver = tutte_embedding(F, bnd, n, return_solver=True)
     t2 = time.perf_counter()
     times["tutte"] = t2 - t1
 
@@ -189,8 +198,8 @@ def disk_conformal_map(V, F, *, check=True):
     t3 = time.perf_counter()
     times["beltrami"] = t3 - t2
 
-    interior = np.setdiff1d(np.arange(n), bnd)
-    solve_interior = spd_solver(-L[interior][:, interior])
+    interior = _complement(bnd, n)
+    solve_interior = solver.refactorize(-L[interior][:, interior])
     # Torsion function: its maximum is the deepest point, mapped to 0.
     area = np.bincount(F.ravel(), weights=np.repeat(doublearea(V, F) / 6, 3), minlength=n)
     torsion = solve_interior(area[interior])
@@ -251,5 +260,7 @@ def _free_boundary_map(L, F, bnd, omega, solve_interior):
         return z, 0
     weights = L.data[L.indices != np.repeat(np.arange(L.shape[0]), np.diff(L.indptr))]
     floor = 1e-2 * np.median(weights[weights > 0])
-    z, _ = dirichlet_solve(_clamped(L, floor), bnd, zb)
+    C = _clamped(L, floor)
+    interior = _complement(bnd, L.shape[0])
+    z, _ = dirichlet_solve(C, bnd, zb, solve_interior.refactorize(-C[interior][:, interior]))
     return z, folded

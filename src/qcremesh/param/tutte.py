@@ -37,7 +37,7 @@ def map_vertices_to_circle(V, bnd):
     return np.column_stack([np.cos(theta), np.sin(theta)])
 
 
-def tutte_embedding(F, bnd=None, n=None):
+def tutte_embedding(F, bnd=None, n=None, *, return_solver=False):
     """Tutte embedding onto the unit disk with the fake metric (every edge length 1).
 
     The boundary loop goes to the unit circle at equal angles, and every interior vertex
@@ -55,13 +55,19 @@ def tutte_embedding(F, bnd=None, n=None):
         orientation :func:`boundary_loop` returns, so faces keep their orientation.
     n : int, optional
         Number of vertices.
+    return_solver : bool
+        Also return the factorization of the interior block of the Laplacian, whose
+        ordering and symbolic analysis serve any other Laplacian of the mesh (see
+        :meth:`qcremesh.geometry.linsolve.SPDSolver.refactorize`).
 
     Returns
     -------
-    (n, 2) float
+    uv : (n, 2) float
+    solver : SPDSolver
+        Only with ``return_solver``.
     """
     F = np.asarray(F)
     n = int(F.max()) + 1 if n is None else n
     bnd = boundary_loop(F) if bnd is None else np.asarray(bnd)
-    uv, _ = dirichlet_solve(uniform_laplacian(F, n), bnd, map_vertices_to_circle(None, bnd))
-    return uv
+    uv, solver = dirichlet_solve(uniform_laplacian(F, n), bnd, map_vertices_to_circle(None, bnd))
+    return (uv, solver) if return_solver else uv
