@@ -114,3 +114,14 @@ def test_targets_on_shared_mesh(name):
     assert abs(q["faces"] - len(F)) <= 0.05 * len(F)
     assert q["q_mean"] >= 0.97 and q["q_min"] >= 0.3
     assert q["hausdorff"] <= 0.003
+
+
+def test_min_quality_on_human_face():
+    """The nostrils and the jagged parts of the border used to leave needles (q ~ 0.001);
+    the minimum-quality search of the relaxation lifts every face, boundary ones included,
+    above 0.3."""
+    V, F = read_mesh(DATA / "human_face.obj")
+    r = remesh(V, F)
+    q = radius_ratio(r.V, r.F)
+    assert q.min() >= 0.3 and q.mean() >= 0.97
+    check_disk(r.V, r.F)

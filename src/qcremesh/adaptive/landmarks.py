@@ -24,6 +24,7 @@ __all__ = [
     "boundary_angles",
     "boundary_corners",
     "boundary_landmarks",
+    "smoothed_arc_length",
     "interpolate_on_boundary",
     "CVTResult",
     "cvt_landmarks",
@@ -73,8 +74,11 @@ def boundary_corners(V, bnd, angle=45.0, scale=None):
     arc length ``scale / 2`` before b_i to b_i and from b_i to the point ``scale / 2``
     after it (with ``scale=None``, between the two boundary edges at b_i). Measured at the
     scale of the output spacing, the jagged border of a scan is not a corner while the
-    corner of a CAD part is. Of the vertices above the threshold, the sharpest are kept
-    first, and then only those at least ``scale / 2`` along the boundary from a kept one.
+    corner of a CAD part is. With a scale, the turn must also exceed ``angle`` at a
+    quarter of it: a corner is sharp, while a smooth border sampled coarsely (a few
+    landmarks around a loop) turns by 360 / count degrees per landmark without any. Of
+    the vertices above the threshold, the sharpest are kept first, and then only those at
+    least ``scale / 2`` along the boundary from a kept one.
 
     Returns
     -------
@@ -85,18 +89,25 @@ def boundary_corners(V, bnd, angle=45.0, scale=None):
     seg = np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1)
     s = np.r_[0.0, np.cumsum(seg)]
     perimeter = s[-1]
-    if scale is None:
-        before, after = np.roll(P, 1, axis=0), np.roll(P, -1, axis=0)
-    else:
-        closed = np.concatenate([P, P[:1]])
-        at = lambda x: np.column_stack(  # noqa: E731
-            [np.interp(np.mod(x, perimeter), s, closed[:, k]) for k in range(P.shape[1])]
-        )
-        before, after = at(s[:-1] - scale / 2), at(s[:-1] + scale / 2)
-    a, b = P - before, after - P
-    cos = (a * b).sum(1) / np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
-    turn = np.degrees(np.arccos(np.clip(cos, -1, 1)))
-    candidates = np.flatnonzero(turn > angle)
+    closed = np.concatenate([P, P[:1]])
+
+    def turning(h):
+        if h is None:
+            before, after = np.roll(P, 1, axis=0), np.roll(P, -1, axis=0)
+        else:
+            at = lambda x: np.column_stack(  # noqa: E731
+                [np.interp(np.mod(x, perimeter), s, closed[:, k]) for k in range(P.shape[1])]
+            )
+            before, after = at(s[:-1] - h / 2), at(s[:-1] + h / 2)
+        a, b = P - before, after - P
+        cos = (a * b).sum(1) / np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
+        return np.degrees(np.arccos(np.clip(cos, -1, 1)))
+
+    turn = turning(scale)
+    sharp = turn > angle
+    if scale is not None:
+        sharp &= turning(scale / 4) > angle
+    candidates = np.flatnonzero(sharp)
     if scale is None or len(candidates) < 2:
         return candidates
     kept = []
@@ -107,13 +118,55 @@ def boundary_corners(V, bnd, angle=45.0, scale=None):
     return np.sort(np.asarray(kept, dtype=np.int64))
 
 
+def smoothed_arc_length(P, width):
+    """Arc length along a closed polyline measured on the polyline smoothed at a scale:
+    notches and teeth narrower than ``width`` count for little more than their mouth.
+
+    The polyline is resampled at ``m`` points uniformly in arc length t and each sample
+    is replaced by the mean of the samples within ``width / 2`` of it along the polyline
+    (a moving average, periodic). sigma is the arc length of the smoothed samples plus
+    a hundredth of the raw arc length, which keeps it strictly increasing, interpolated
+    linearly in t at the vertices.
+
+    Parameters
+    ----------
+    P : (b, d) float
+        Vertices of the closed polyline (the edge from the last back to the first included).
+    width : float
+
+    Returns
+    -------
+    (b + 1,) float
+        sigma at the vertices and, last, sigma of the whole loop.
+    """
+    P = np.asarray(P, dtype=np.float64)
+    seg = np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1)
+    s = np.r_[0.0, np.cumsum(seg)]
+    perimeter = s[-1]
+    m = max(8 * len(P), int(np.ceil(8 * perimeter / max(width, 1e-300))))
+    m = min(m, 64 * len(P))
+    t = perimeter * np.arange(m) / m
+    closed = np.concatenate([P, P[:1]])
+    Q = np.column_stack([np.interp(t, s, closed[:, k]) for k in range(P.shape[1])])
+    half = int(min(round(width / 2 / (perimeter / m)), (m - 1) // 2))
+    padded = np.concatenate([Q[m - half :], Q, Q[:half]])
+    csum = np.concatenate([np.zeros((1, P.shape[1])), np.cumsum(padded, axis=0)])
+    smooth = (csum[2 * half + 1 :] - csum[: -2 * half - 1]) / (2 * half + 1)
+    step = np.linalg.norm(np.roll(smooth, -1, axis=0) - smooth, axis=1)
+    sigma = np.r_[0.0, np.cumsum(step)] + 0.01 * np.r_[t, perimeter]
+    return np.interp(s, np.r_[t, perimeter], sigma)
+
+
 def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0):
     """Boundary landmarks: ``count`` points spaced uniformly by arc length along the
     surface boundary, the sharp corners included, as angles on the circle.
 
-    The boundary is split at its corners (or, with none, at ``bnd[0]``); each piece gets
-    a number of landmarks proportional to its length (at least its first vertex) and
-    spaces them evenly.
+    The arc length is that of the boundary smoothed at the landmark spacing
+    (:func:`smoothed_arc_length`), so a notch of a scanned border narrower than the
+    spacing gets no landmark inside it (two landmarks on its walls would be much closer
+    on the surface than the spacing). The boundary is split at its corners (or, with
+    none, at ``bnd[0]``); each piece gets a number of landmarks proportional to its
+    length (at least its first vertex) and spaces them evenly.
 
     Parameters
     ----------
@@ -138,19 +191,22 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0):
     seg = np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1)
     s = np.r_[0.0, np.cumsum(seg)]  # arc length at b_0 .. b_{b-1}, b_0 again
     perimeter = s[-1]
-    corners = boundary_corners(V, bnd, corner_angle, scale=perimeter / max(count, 3))
+    scale = perimeter / max(count, 3)
+    corners = boundary_corners(V, bnd, corner_angle, scale=scale)
+    sigma = smoothed_arc_length(P, scale)
+    total = sigma[-1]
     starts = corners if len(corners) else np.array([0])
-    s0 = s[starts]
-    lengths = np.diff(np.r_[s0, s0[0] + perimeter])
-    per_piece = np.maximum(1, np.round(lengths / perimeter * max(count, 3)).astype(int))
+    s0 = sigma[starts]
+    lengths = np.diff(np.r_[s0, s0[0] + total])
+    per_piece = np.maximum(1, np.round(lengths / total * max(count, 3)).astype(int))
     piece = np.repeat(np.arange(len(starts)), per_piece)
     rank = np.arange(len(piece)) - np.repeat(np.cumsum(per_piece) - per_piece, per_piece)
     arc = s0[piece] + lengths[piece] * rank / per_piece[piece]
-    arc = np.mod(arc, perimeter)
-    # arc length -> angle, linearly within each boundary edge
+    arc = np.mod(arc, total)
+    # smoothed arc length -> angle, linearly within each boundary edge
     t = np.r_[theta_b, theta_b[0] + 2 * np.pi]
-    i = np.clip(np.searchsorted(s, arc, side="right") - 1, 0, len(bnd) - 1)
-    frac = (arc - s[i]) / seg[i]
+    i = np.clip(np.searchsorted(sigma, arc, side="right") - 1, 0, len(bnd) - 1)
+    frac = (arc - sigma[i]) / np.diff(sigma)[i]
     theta = t[i] + frac * (t[i + 1] - t[i])
     order = np.argsort(np.mod(theta - theta_b[0], 2 * np.pi), kind="stable")
     return theta[order], (rank == 0)[order] & (len(corners) > 0)
@@ -238,7 +294,7 @@ def cvt_landmarks(samples, mass, fixed, count, *, weight=None, iterations=30, to
     spacing = np.sqrt(np.pi / max(count + nfix, 1))
     done = 0
     for done in range(1, iterations + 1):
-        _, owner = cKDTree(np.concatenate([fixed, points])).query(samples)
+        _, owner = cKDTree(np.concatenate([fixed, points])).query(samples, workers=-1)
         w = np.bincount(owner, weights=weight, minlength=nfix + count)[nfix:]
         cx = np.bincount(owner, weights=weight * samples[:, 0], minlength=nfix + count)[nfix:]
         cy = np.bincount(owner, weights=weight * samples[:, 1], minlength=nfix + count)[nfix:]
@@ -251,6 +307,6 @@ def cvt_landmarks(samples, mass, fixed, count, *, weight=None, iterations=30, to
             break
     points = _drop_crowded(points, fixed)
     count = len(points)
-    _, owner = cKDTree(np.concatenate([fixed, points])).query(samples)
+    _, owner = cKDTree(np.concatenate([fixed, points])).query(samples, workers=-1)
     cell = np.bincount(owner, weights=mass, minlength=nfix + count)[nfix:]
     return CVTResult(points, done, cell, float(cell.std() / cell.mean()) if count else 0.0)

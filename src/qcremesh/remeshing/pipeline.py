@@ -181,7 +181,8 @@ def remesh(
     cvt_iterations : int
         Maximum number of Lloyd iterations.
     relax : int
-        Sweeps of tangential relaxation on the surface after the projection (see
+        Sweeps of tangential relaxation on the surface after the projection, followed by
+        the search that raises the minimum radius ratio around the worst faces (see
         :mod:`qcremesh.remeshing.relax`; 0 leaves the paper's pipeline alone). The
         connectivity and the semi-regular structure are kept.
     teichmuller_iterations : int
@@ -282,7 +283,10 @@ def remesh(
         stage("relax")
         pinned = np.zeros(len(uv), dtype=bool)
         pinned[: len(theta)] = corner if method != "uniform" else False
-        uv, Vo = relax_on_surface(dm.uv, F, V, uv, Fo, iterations=relax, pinned=pinned)
+        perimeter = np.linalg.norm(V[np.roll(bnd, -1)] - V[bnd], axis=1).sum()
+        uv, Vo = relax_on_surface(
+            dm.uv, F, V, uv, Fo, iterations=relax, pinned=pinned, boundary_scale=perimeter / max(nb, 3)
+        )
         done("relax")
 
     stage("project")
