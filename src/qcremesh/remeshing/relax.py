@@ -365,17 +365,18 @@ def relax_on_surface(
     X[bnd] = interpolate_on_boundary(curve.theta, curve.points, theta)
     s = curve.arc_length(theta)
     s = s[0] + np.mod(s - s[0], perimeter)  # increasing along the output loop
+    moved = np.flatnonzero(free)
+    A_moved, deg_moved = A[moved], deg[moved]
     for _ in range(iterations):
-        normal = _vertex_normals(X, Fo, VF)
-        d = (A @ X) / deg[:, None] - X
+        normal = _vertex_normals(X, Fo, VF)[moved]
+        d = (A_moved @ X) / deg_moved[:, None] - X[moved]
         d -= (d * normal).sum(1, keepdims=True) * normal
         length = np.linalg.norm(X[E[:, 0]] - X[E[:, 1]], axis=1)
-        reach = (np.bincount(E[:, 0], length, k) + np.bincount(E[:, 1], length, k)) / deg
+        reach = (np.bincount(E[:, 0], length, k) + np.bincount(E[:, 1], length, k))[moved] / deg_moved
         d *= step
         d *= np.minimum(1.0, 0.25 * reach / np.maximum(np.linalg.norm(d, axis=1), 1e-300))[:, None]
         new_X, new_uv, new_face = X.copy(), uv.copy(), face.copy()
-        moved = np.flatnonzero(free)
-        f, cp, b = closest_point_near(X[moved] + d[moved], face[moved], V, F, vertex_faces)
+        f, cp, b = closest_point_near(X[moved] + d, face[moved], V, F, vertex_faces)
         new_face[moved], new_X[moved] = f, cp
         new_uv[moved] = interpolate_barycentric(F, f, b, disk_uv)
         # boundary: 1D smoothing of arc length along the output boundary loop
