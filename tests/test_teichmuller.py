@@ -3,7 +3,10 @@ import pytest
 from scipy.spatial import Delaunay
 
 from conftest import grid_disk
-from qcremesh.beltrami.teichmuller import circle_boundary_positions, teichmuller_map
+from qcremesh.adaptive.basemesh import delaunay_disk_mesh, hexagonal_disk_points, subdivide_disk_mesh
+from qcremesh.beltrami.coefficient import beltrami_coefficient
+from qcremesh.beltrami.teichmuller import circle_boundary_positions, equilateral_coefficient, teichmuller_map
+from qcremesh.geometry.quality import radius_ratio
 from qcremesh.geometry.operators import doublearea, signed_doublearea
 from qcremesh.mesh.subdivide import upsample
 from qcremesh.mesh.topology import boundary_loop
@@ -86,7 +89,7 @@ def test_history_decreases(disk_case):
     assert np.all(np.diff([np.mean(block) for block in np.array_split(h, 4)]) < 0)
 
 
-@pytest.mark.parametrize("smooth", [0.0, 2.0])
+@pytest.mark.parametrize("smooth", [0, 2])
 def test_affine_targets_give_the_affine_map(smooth):
     uv, F = grid_disk(9, jitter=0.3)
     z = uv[:, 0] + 1j * uv[:, 1]
@@ -98,6 +101,69 @@ def test_affine_targets_give_the_affine_map(smooth):
     np.testing.assert_allclose(res.uv[:, 0] + 1j * res.uv[:, 1], f, atol=1e-10)
     np.testing.assert_allclose(res.mu, mu0, atol=1e-10)
     assert res.k == pytest.approx(abs(mu0), abs=1e-10)
+    assert res.landmark_error < 1e-12
+
+
+def test_equilateral_coefficient():
+    w = np.exp(2j * np.pi / 3 * np.arange(3))
+    F = np.array([[0, 1, 2]])
+    for p in [w, w[::-1]]:  # counter-clockwise and clockwise equilateral faces
+        assert abs(equilateral_coefficient(np.c_[p.real, p.imag] * 2 + 1, F)[0]) < 1e-14
+    # The face R^{-1}(w), R = z + 0.3 conj(z) inverted: mu of the map onto w.
+    z = (w - 0.3 * np.conj(w)) / (1 - 0.09)
+    uv = np.c_[z.real, z.imag]
+    mu = equilateral_coefficient(uv, F)
+    np.testing.assert_allclose(mu, 0.3, atol=1e-14)
+    np.testing.assert_allclose(mu, beltrami_coefficient(uv, F, w), atol=1e-14)
+
+
+@pytest.fixture(scope="module")
+def warm_case():
+    """The remeshing use: a Delaunay base mesh of jittered hexagonal points subdivided,
+    its base vertices already on their targets, mapped from the equilateral reference."""
+    rng = np.random.default_rng(0)
+    P = hexagonal_disk_points(0.3)
+    P = P[np.linalg.norm(P, axis=1) < 0.85]
+    P = P + rng.uniform(-0.06, 0.06, P.shape)
+    base, base_F = delaunay_disk_mesh(2 * np.pi * np.arange(20) / 20, P)
+    uv, F = subdivide_disk_mesh(base, base_F, 2)[-1]
+    bnd, land = boundary_loop(F), np.arange(len(base))
+    res = teichmuller_map(
+        uv, F, land, uv[land], boundary=bnd, initial=uv, reference="equilateral", max_iter=8, smooth=1
+    )
+    return uv, F, bnd, land, res
+
+
+def test_warm_start_matches_landmarks_keeps_circle_and_unfolds(warm_case):
+    uv, F, bnd, land, res = warm_case
+    np.testing.assert_allclose(res.uv[land], uv[land], atol=1e-12)
+    assert res.landmark_error < 1e-12
+    np.testing.assert_allclose(np.linalg.norm(res.uv[bnd], axis=1), 1, atol=1e-12)
+    assert res.folded_faces == 0 and np.all(signed_doublearea(res.uv, F) > 0)
+    assert res.iterations == len(res.history) <= 8
+    # k is the mean over the faces of |mu_T|, the distortion from equilateral.
+    mu = equilateral_coefficient(res.uv, F)
+    np.testing.assert_allclose(np.abs(res.mu), np.abs(mu), atol=1e-10)
+    assert res.k == pytest.approx(np.abs(mu).mean())
+
+
+def test_warm_start_improves_the_triangles(warm_case):
+    uv, F, bnd, land, res = warm_case
+    q0, q = radius_ratio(uv, F), radius_ratio(res.uv, F)
+    assert q.mean() > q0.mean() + 0.005
+    # Faces are guarded before |mu_T| exceeds 0.45 (a radius ratio of about 0.45).
+    assert q.min() > 0.4
+    assert 0 < res.guarded_faces < 0.2 * len(F)
+
+
+def test_equilateral_reference_converges_on_a_regular_case():
+    """A hexagonal patch of equilateral triangles, its boundary on the circle: the
+    interior landmark at its own place gives a T-map that converges, with small k."""
+    uv, F, bnd, land, _ = subdivided_disk(levels=1, tutte=False)
+    tutte = tutte_embedding(F, bnd)
+    res = teichmuller_map(tutte, F, land, tutte[land], boundary=bnd, reference="equilateral", max_iter=100)
+    assert res.converged and res.folded_faces == 0
+    assert res.history[-1] < 1e-2
     assert res.landmark_error < 1e-12
 
 
