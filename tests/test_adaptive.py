@@ -120,3 +120,17 @@ def test_jagged_border_has_no_corner_at_output_scale():
     bnd = np.arange(len(V))
     assert len(boundary_corners(V, bnd)) > 50  # edge scale: nearly every vertex
     np.testing.assert_array_equal(boundary_corners(V, bnd, scale=1.0), [0, 100, 101, 201])
+
+
+def test_delaunay_disk_mesh_leaves_out_points_at_the_boundary():
+    """A point between an edge of the boundary polygon and its arc would become a
+    boundary vertex, one just inside an edge a sliver: both are left out."""
+    theta = 2 * np.pi * np.arange(8) / 8
+    mid = np.pi / 8  # middle of the first edge; the edge's line is at cos(pi / 8)
+    inside = [[0.0, 0.0], [0.5, 0.1]]
+    outside = [0.97 * np.array([np.cos(mid), np.sin(mid)]), 0.9 * np.array([np.cos(mid), np.sin(mid)])]
+    uv, F = delaunay_disk_mesh(theta, np.array(inside + outside))
+    np.testing.assert_allclose(uv[8:], inside)
+    (loop,) = boundary_loops(F)
+    assert sorted(loop) == list(range(8))
+    assert np.all(signed_doublearea(uv, F) > 0)

@@ -12,27 +12,43 @@ from ..mesh.topology import boundary_edges
 __all__ = ["delaunay_disk_mesh", "subdivide_disk_mesh", "hexagonal_disk_points"]
 
 
-def delaunay_disk_mesh(theta, interior):
+def delaunay_disk_mesh(theta, interior, margin=0.2):
     """Delaunay triangulation of boundary points on the unit circle and interior points.
 
     Every point of the circle is extreme, so the triangulation covers the inscribed
     polygon of the boundary points exactly and its boundary loop is that polygon.
+    Interior points outside that polygon (between an edge and its arc) would become
+    boundary vertices, and points just inside an edge would make a sliver with it: the
+    points closer to the line of their sector's edge than ``margin`` times the edge's
+    length, or beyond it, are left out. For the edge between the angles t_i and t_{i+1},
+    a point at radius r and angle phi in that sector is kept when
+    r cos(phi - (t_i + t_{i+1}) / 2) < cos(d / 2) - margin 2 sin(d / 2), d = t_{i+1} - t_i.
 
     Parameters
     ----------
     theta : (b,) float
-        Increasing angles of the boundary points.
+        Increasing angles of the boundary points (b >= 3), within one turn.
     interior : (k, 2) float
         Points strictly inside the disk.
+    margin : float
 
     Returns
     -------
-    uv : (b + k, 2) float
-        The boundary points first, in the order of ``theta``.
+    uv : (b + j, 2) float
+        The boundary points first, in the order of ``theta``, then the interior points
+        kept (j <= k), in their order.
     F : (m, 3) int64
         Counter-clockwise triangles.
     """
-    uv = np.concatenate([np.column_stack([np.cos(theta), np.sin(theta)]), np.asarray(interior).reshape(-1, 2)])
+    theta = np.asarray(theta, dtype=np.float64)
+    interior = np.asarray(interior, dtype=np.float64).reshape(-1, 2)
+    phi = theta[0] + np.mod(np.arctan2(interior[:, 1], interior[:, 0]) - theta[0], 2 * np.pi)
+    knots = np.r_[theta, theta[0] + 2 * np.pi]
+    i = np.clip(np.searchsorted(knots, phi, side="right") - 1, 0, len(theta) - 1)
+    d = knots[i + 1] - knots[i]
+    height = np.hypot(interior[:, 0], interior[:, 1]) * np.cos(phi - (knots[i] + knots[i + 1]) / 2)
+    interior = interior[height < np.cos(d / 2) - margin * 2 * np.sin(d / 2)]
+    uv = np.concatenate([np.column_stack([np.cos(theta), np.sin(theta)]), interior])
     F = Delaunay(uv).simplices.astype(np.int64)
     cw = signed_doublearea(uv, F) < 0
     F[cw] = F[cw][:, ::-1]

@@ -42,12 +42,15 @@ from ..geometry.operators import doublearea
 from ..mesh.subdivide import upsample
 from ..mesh.topology import boundary_edges, boundary_loop
 from ..param.disk import disk_conformal_map
-from ..param.tutte import tutte_embedding
 from .relax import relax_on_surface
 
 __all__ = ["METHODS", "RemeshResult", "remesh", "project_to_surface"]
 
 METHODS = ("subdivided", "teichmuller", "base", "uniform")
+
+# The CVT of the landmarks samples the disk at the parameterization's vertices, subdivided
+# until there are at least this many per landmark.
+CVT_SAMPLES_PER_LANDMARK = 20
 
 
 @dataclass
@@ -147,9 +150,9 @@ def remesh(
     method="subdivided",
     seed=0,
     corner_angle=45.0,
-    cvt_iterations=30,
+    cvt_iterations=10,
     relax=40,
-    teichmuller_iterations=60,
+    teichmuller_iterations=5,
     data=None,
     progress=None,
 ):
@@ -186,7 +189,8 @@ def remesh(
         :mod:`qcremesh.remeshing.relax`; 0 leaves the paper's pipeline alone). The
         connectivity and the semi-regular structure are kept.
     teichmuller_iterations : int
-        Maximum number of QC iterations of the Teichmueller map.
+        Maximum number of QC iterations of the Teichmueller map (from the linear
+        subdivision, the quality of the output changes little after the first few).
     data : dict of str to (n,) or (n, d) array, optional
         Per-vertex attributes (normals, colours, scalars, UVs) to carry to the output.
     progress : callable, optional
@@ -236,7 +240,7 @@ def remesh(
         theta, corner = boundary_landmarks(V, dm.uv, bnd, nb, corner_angle)
         stats["boundary_corners"] = int(corner.sum())
         samples_uv, samples_V, samples_F = dm.uv, V, F
-        while len(samples_uv) < 20 * (ni + nb):
+        while len(samples_uv) < CVT_SAMPLES_PER_LANDMARK * (ni + nb):
             samples_V, _ = upsample(samples_V, samples_F, 1)
             samples_uv, samples_F = upsample(samples_uv, samples_F, 1)
         rho = vertex_density(samples_uv, samples_F, samples_V)
@@ -264,10 +268,19 @@ def remesh(
     mu = None
     if method == "teichmuller" and levels > 0:
         stage("teichmuller")
-        source = tutte_embedding(Fo)
-        landmarks = np.arange(len(base_uv))
+        # The source is the equilateral complex of the subdivided mesh and the QC
+        # iteration starts from the linear subdivision, which already matches the
+        # landmarks (see qcremesh.beltrami.teichmuller).
         tm = teichmuller_map(
-            source, Fo, landmarks, base_uv, boundary=boundary_loop(Fo), max_iter=teichmuller_iterations
+            uv,
+            Fo,
+            np.arange(len(base_uv)),
+            base_uv,
+            boundary=boundary_loop(Fo),
+            initial=uv,
+            reference="equilateral",
+            max_iter=teichmuller_iterations,
+            smooth=1,
         )
         uv, mu = tm.uv, tm.mu
         stats.update(
@@ -275,6 +288,7 @@ def remesh(
             teichmuller_iterations=int(tm.iterations),
             teichmuller_converged=bool(tm.converged),
             teichmuller_folded_faces=int(tm.folded_faces),
+            teichmuller_guarded_faces=int(tm.guarded_faces),
         )
         done("teichmuller")
 

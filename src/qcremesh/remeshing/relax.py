@@ -139,15 +139,35 @@ class _BoundaryCurve:
         return np.column_stack([np.cos(theta), np.sin(theta)]), interpolate_on_boundary(self.theta, self.points, theta)
 
 
-def _star_scores(X, uv, Fo, VF, verts, Xc, uvc):
+def _surface_side(X, T, up):
+    """Radius ratio of faces ``T`` of a mesh on a surface, negated where the face is
+    turned over: its normal makes more than 90 degrees with ``up``, the normal of the
+    input surface under it. (f,) for T (f, 3), up (f, 3)."""
+    P = X[T]
+    normal = np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
+    return np.where((normal * up).sum(1) >= 0, 1.0, -1.0) * radius_ratio(X, T)
+
+
+def _input_up(T, face, input_normals):
+    """Normal of the input surface under interior output faces ``T``: the sum of the
+    input face normals at their three vertices (``face`` is the input face each output
+    vertex lies on, -1 on the boundary), (f, 3). Faces with a boundary vertex get zero
+    and are never taken as turned over: along a jagged scan border the input's normals
+    are too irregular to judge by."""
+    up = input_normals[face[T]].sum(1)
+    up[(face[T] < 0).any(1)] = 0.0
+    return up
+
+
+def _star_scores(X, uv, Fo, VF, verts, Xc, uvc, face, input_normals):
     """Smallest radius ratio over the faces around each vertex, for candidate positions of
     the vertex.
 
     With the vertex at a candidate position, each face of its star has edge lengths
     a, b, c and twice the area 2A = |n| with n its normal, and radius ratio
     q = 4 (2A)^2 / ((a + b + c) a b c). A candidate that folds a face in the disk
-    (non-positive signed area) or turns its normal on the surface by more than 90 degrees
-    scores -1.
+    (non-positive signed area) or leaves it turned over on the surface (its normal more
+    than 90 degrees from the input's normal under it, see :func:`_input_up`) scores -1.
 
     Parameters
     ----------
@@ -161,6 +181,10 @@ def _star_scores(X, uv, Fo, VF, verts, Xc, uvc):
     Xc : (p, c, 3) float
     uvc : (p, c, 2) float
         Candidate surface and disk positions of every vertex.
+    face : (k,) int
+        Input face each output vertex lies on.
+    input_normals : (m, 3) float
+        Unit normals of the input faces.
 
     Returns
     -------
@@ -170,7 +194,7 @@ def _star_scores(X, uv, Fo, VF, verts, Xc, uvc):
     T = Fo[star]
     corner = np.argmax(T == verts[owner][:, None], axis=1)
     P, U = X[T], uv[T]
-    old_normal = np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
+    surface_up = _input_up(T, face, input_normals)
     c = Xc.shape[1]
     P = np.repeat(P[:, None], c, axis=1)
     U = np.repeat(U[:, None], c, axis=1)
@@ -184,7 +208,7 @@ def _star_scores(X, uv, Fo, VF, verts, Xc, uvc):
     den = length.sum(2) * length.prod(2)
     q = np.divide(4 * dbl**2, den, out=np.zeros_like(den), where=den > 0)
     a, b = U[:, :, 1] - U[:, :, 0], U[:, :, 2] - U[:, :, 0]
-    valid = (a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0] > 0) & ((normal * old_normal[:, None]).sum(2) > 0)
+    valid = (a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0] > 0) & ((normal * surface_up[:, None]).sum(2) >= 0)
     score = np.where(valid, q, -1.0)
     starts = np.r_[0, np.cumsum(np.bincount(owner, minlength=len(verts)))[:-1]]
     return np.minimum.reduceat(score, starts, axis=0)
@@ -204,7 +228,12 @@ def _optimize_min_quality(X, uv, face, s, Fo, bnd, pinned, V, F, disk_uv, vertex
     where_bnd = np.full(k, -1)
     where_bnd[bnd] = np.arange(len(bnd))
     angles = 2 * np.pi * np.arange(_DIRECTIONS) / _DIRECTIONS
-    q = radius_ratio(X, Fo)
+    # Faces turned over on the surface (in pockets the disk map compresses, a face can be
+    # counter-clockwise in the disk and still face into the surface) count as negative
+    # quality, so the search turns them back first.
+    input_normals = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    input_normals /= np.maximum(np.linalg.norm(input_normals, axis=1, keepdims=True), 1e-300)
+    q = _surface_side(X, Fo, _input_up(Fo, face, input_normals))
     qv = np.minimum.reduceat(q[VF.indices], VF.indptr[:-1])
     stuck = np.zeros(k, dtype=bool)
     for _ in range(rounds):
@@ -246,7 +275,7 @@ def _optimize_min_quality(X, uv, face, s, Fo, bnd, pinned, V, F, disk_uv, vertex
             )
             Xc = cp.reshape(-1, c, 3)
             uvc = interpolate_barycentric(F, f, b, disk_uv).reshape(-1, c, 2)
-            score = _star_scores(X, uv, Fo, VF, inner, Xc, uvc)
+            score = _star_scores(X, uv, Fo, VF, inner, Xc, uvc, face, input_normals)
             j = np.argmax(score, axis=1)
             rows = np.arange(len(inner))
             better = score[rows, j] > qv[inner] + 1e-9
@@ -264,7 +293,9 @@ def _optimize_min_quality(X, uv, face, s, Fo, bnd, pinned, V, F, disk_uv, vertex
             sc = np.clip(s[i][:, None] + shift, lo[:, None], hi[:, None])
             uvc, Xc = curve.at(sc.ravel())
             c = sc.shape[1]
-            score = _star_scores(X, uv, Fo, VF, outer, Xc.reshape(-1, c, 3), uvc.reshape(-1, c, 2))
+            score = _star_scores(
+                X, uv, Fo, VF, outer, Xc.reshape(-1, c, 3), uvc.reshape(-1, c, 2), face, input_normals
+            )
             j = np.argmax(score, axis=1)
             rows = np.arange(len(outer))
             better = score[rows, j] > qv[outer] + 1e-9
@@ -279,7 +310,7 @@ def _optimize_min_quality(X, uv, face, s, Fo, bnd, pinned, V, F, disk_uv, vertex
         if len(moved):
             stuck[_rows(A, moved)[0]] = False
             touched = np.unique(_rows(VF, moved)[0])
-            q[touched] = radius_ratio(X, Fo[touched])
+            q[touched] = _surface_side(X, Fo[touched], _input_up(Fo[touched], face, input_normals))
             around = np.unique(Fo[touched])
             star, owner = _rows(VF, around)
             qv[around] = np.minimum.reduceat(q[star], np.r_[0, np.cumsum(np.bincount(owner))[:-1]])
@@ -357,7 +388,7 @@ def relax_on_surface(
     vertex_faces = vertex_face_incidence(F, len(V))
     VF = vertex_face_incidence(Fo, k)
 
-    face = np.zeros(k, dtype=np.int64)
+    face = np.full(k, -1, dtype=np.int64)  # input face under each vertex; -1: boundary
     X = np.zeros((k, 3))
     face[inner], bary, _ = locate_points(disk_uv, F, uv[inner])
     X[inner] = interpolate_barycentric(F, face[inner], bary, V)
