@@ -8,12 +8,14 @@ with projection back onto the surface).
    their images are uniform on the surface (see :mod:`qcremesh.adaptive.landmarks`).
 4. Base mesh: the Delaunay triangulation of the landmarks.
 5. Subdivision: ``levels`` times 1-to-4, new boundary vertices on the circle.
-6. Teichmueller map: the Tutte embedding of the subdivided mesh deformed by the
-   landmark-matching Teichmueller map so that the base vertices land on the landmarks and
-   the subdivided triangles follow the density.
+6. Teichmueller map: the landmark-matching Teichmueller map of the subdivided mesh, by
+   the QC iteration started from the linear subdivision, with each face measured against
+   an equilateral triangle (see :mod:`qcremesh.beltrami.teichmuller`).
 7. Projection: every vertex of the adaptive disk mesh is located in the parameterization
    and its position interpolated barycentrically on the input surface; boundary vertices
    are interpolated along the input boundary polyline.
+8. Beyond the paper, optional (``relax``): tangential relaxation on the surface and a
+   search that raises the minimum quality (:mod:`qcremesh.remeshing.relax`).
 
 The ablations of the paper are the ``method`` option: ``"uniform"`` (a regular mesh of the
 disk projected as is, Fig. 7), ``"base"`` (the base mesh only), ``"subdivided"`` (steps 1-5
@@ -187,7 +189,11 @@ def remesh(
         Sweeps of tangential relaxation on the surface after the projection, followed by
         the search that raises the minimum radius ratio around the worst faces (see
         :mod:`qcremesh.remeshing.relax`; 0 leaves the paper's pipeline alone). The
-        connectivity and the semi-regular structure are kept.
+        connectivity and the semi-regular structure are kept. With ``"subdivided"`` the
+        sweeps go to the level below the output, whose relaxed subdivision then gets
+        ``relax // 4`` more: measured on hand.ply, foot.off and human_face.obj this is
+        twice as fast as relaxing the output alone and raises the mean radius ratio by
+        0.005-0.007.
     teichmuller_iterations : int
         Maximum number of QC iterations of the Teichmueller map (from the linear
         subdivision, the quality of the output changes little after the first few).
@@ -298,9 +304,20 @@ def remesh(
         pinned = np.zeros(len(uv), dtype=bool)
         pinned[: len(theta)] = corner if method != "uniform" else False
         perimeter = np.linalg.norm(V[np.roll(bnd, -1)] - V[bnd], axis=1).sum()
-        uv, Vo = relax_on_surface(
-            dm.uv, F, V, uv, Fo, iterations=relax, pinned=pinned, boundary_scale=perimeter / max(nb, 3)
-        )
+        scale = perimeter / max(nb, 3)
+        sweeps = relax
+        if method == "subdivided" and levels > 0:
+            # Coarse to fine: the level below the output takes the sweeps (a quarter of
+            # the vertices, twice the reach per sweep), and its relaxed subdivision a
+            # quarter as many.
+            coarse_uv, coarse_F = hierarchy[-2]
+            coarse_uv, _ = relax_on_surface(
+                dm.uv, F, V, coarse_uv, coarse_F, iterations=relax, pinned=pinned[: len(coarse_uv)],
+                boundary_scale=2 * scale, min_quality=0,
+            )
+            uv = subdivide_disk_mesh(coarse_uv, coarse_F, 1)[-1][0]
+            sweeps = max(relax // 4, 1)
+        uv, Vo = relax_on_surface(dm.uv, F, V, uv, Fo, iterations=sweeps, pinned=pinned, boundary_scale=scale)
         done("relax")
 
     stage("project")
