@@ -13,6 +13,12 @@ spacing, so narrow notches are skipped) becomes the mean of their two boundary n
 boundary corners stay. A vertex whose move would fold one of its faces in the disk stays
 where it is, so the disk mesh stays an embedding and the surface mesh its orientation.
 
+Smoothing pulls vertices out of the deep narrow pockets of a surface (nostrils, sulci)
+that a disk map compresses, so the output spans them: the input vertices left far from
+the output then get the nearest output vertex moved onto them, where that keeps its
+faces valid (measured: Hausdorff distance on human_face 2.75 -> 1.45 % of the diagonal,
+human_brain 1.13 -> 0.67 %).
+
 The sweeps regularize the mesh on average but leave the worst triangles where the surface
 bends sharply or the boundary is jagged. A last stage then raises the minimum quality: the
 vertices around the worst faces move, one independent set at a time, to the position
@@ -22,9 +28,10 @@ that maximizes the smallest radius ratio of their faces (see :func:`relax_on_sur
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from ..adaptive.landmarks import boundary_angles, interpolate_on_boundary, smoothed_arc_length
-from ..geometry.distance import point_triangle_distance
+from ..geometry.distance import point_mesh_distance, point_triangle_distance
 from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
@@ -214,6 +221,70 @@ def _star_scores(X, uv, Fo, VF, verts, Xc, uvc, face, input_normals):
     return np.minimum.reduceat(score, starts, axis=0)
 
 
+_SNAP_MIN_QUALITY = 0.3
+
+
+def _snap_to_far_points(X, uv, face, Fo, bnd, pinned, V, F, disk_uv, reach):
+    """Move output vertices onto the input vertices farthest from the output surface (the
+    bottoms of pockets and the tips the output cuts across): the input vertices farther
+    than ``reach`` times the mean output edge length from the output, and at least as far
+    as their neighbours, each pull the nearest interior vertex of their closest output
+    face, where the move keeps the disk mesh an embedding and the vertex's faces above a
+    radius ratio of 0.3. Updates ``X``, ``uv``, ``face`` and ``pinned`` (the snapped
+    vertices are pinned) in place."""
+    k = len(X)
+    E = edges(Fo)
+    h = np.linalg.norm(X[E[:, 0]] - X[E[:, 1]], axis=1).mean()
+    # The distance to the nearest output vertex bounds the distance to the output from
+    # above: only the input vertices farther than h from every output vertex can be
+    # farther than h from the output.
+    dist = cKDTree(X).query(V, workers=-1)[0]
+    far = np.flatnonzero(dist > reach * h)
+    if len(far) == 0:
+        return
+    near_face = np.zeros(len(V), dtype=np.int64)
+    dist[:] = 0.0
+    dist[far], near_face[far], _ = point_mesh_distance(V[far], X, Fo)
+    # input vertices at least as far as all their neighbours, and farther than h
+    A_in = adjacency_matrix(F, len(V))
+    nbr_max = np.maximum.reduceat(dist[A_in.indices], A_in.indptr[:-1])
+    far = far[(dist[far] >= nbr_max[far]) & (dist[far] > reach * h)]
+    if len(far) == 0:
+        return
+    on_bnd = np.zeros(k, dtype=bool)
+    on_bnd[bnd] = True
+    T = Fo[near_face[far]]
+    j = np.argmin(np.linalg.norm(X[T] - V[far][:, None], axis=2), axis=1)
+    target = T[np.arange(len(far)), j]
+    keep = ~on_bnd[target] & ~pinned[target]
+    far, target = far[keep], target[keep]
+    order = np.argsort(-dist[far])
+    far, target = far[order], target[order]
+    _, first = np.unique(target, return_index=True)
+    first = np.sort(first)  # farthest first
+    far, target = far[first], target[first]
+    # no two moving vertices on one face: a vertex yields to a farther neighbour
+    rank = np.full(k, len(target))
+    rank[target] = np.arange(len(target))
+    A = adjacency_matrix(Fo, k)
+    ring, owner = _rows(A, target)
+    lowest = np.full(len(target), len(target))
+    np.minimum.at(lowest, owner, rank[ring])
+    free = lowest > np.arange(len(target))
+    far, target = far[free], target[free]
+    VF = vertex_face_incidence(Fo, k)
+    vf_in = vertex_face_incidence(F, len(V))
+    old_X, old_uv = X[target].copy(), uv[target].copy()
+    X[target], uv[target] = V[far], disk_uv[far]
+    star, owner = _rows(VF, target)
+    ok_face = (signed_doublearea(uv, Fo[star]) > 0) & (radius_ratio(X, Fo[star]) >= _SNAP_MIN_QUALITY)
+    ok = np.bincount(owner, weights=~ok_face, minlength=len(target)) == 0
+    X[target[~ok]], uv[target[~ok]] = old_X[~ok], old_uv[~ok]
+    target, far = target[ok], far[ok]
+    face[target] = vf_in.indices[vf_in.indptr[far]]
+    pinned[target] = True
+
+
 _STEPS = np.array([0.02, 0.06, 0.15, 0.3, 0.5])
 _DIRECTIONS = 8
 
@@ -317,7 +388,19 @@ def _optimize_min_quality(X, uv, face, s, Fo, bnd, pinned, V, F, disk_uv, vertex
 
 
 def relax_on_surface(
-    disk_uv, F, V, uv, Fo, *, iterations=10, step=0.5, pinned=None, boundary_scale=None, min_quality=0.6, rounds=300
+    disk_uv,
+    F,
+    V,
+    uv,
+    Fo,
+    *,
+    iterations=10,
+    step=0.5,
+    pinned=None,
+    boundary_scale=None,
+    snap=1.0,
+    min_quality=0.6,
+    rounds=300,
 ):
     """Move the vertices of a mesh of the disk so that its image on the surface gets more
     regular, without changing its connectivity.
@@ -357,6 +440,11 @@ def relax_on_surface(
         Scale at which the boundary is smoothed to measure the arc length along which the
         boundary vertices are spaced (notches narrower than it are skipped); the mean
         output boundary edge length by default.
+    snap : float
+        After the sweeps, the input vertices farther than ``snap`` mean output edge
+        lengths from the output (the bottoms of pockets the output spans, which the
+        smoothing pulls vertices out of) each get the nearest output vertex moved onto
+        them where that keeps the faces around it valid; 0 skips this.
     min_quality : float
         Radius ratio below which the stars are optimized (0 skips that stage).
     rounds : int
@@ -377,7 +465,7 @@ def relax_on_surface(
         boundary_scale = np.linalg.norm(V[np.roll(loop, -1)] - V[loop], axis=1).sum() / len(bnd)
     curve = _BoundaryCurve(disk_uv, F, V, boundary_scale)
     perimeter = curve.perimeter
-    pinned = np.zeros(k, dtype=bool) if pinned is None else np.asarray(pinned, dtype=bool)
+    pinned = np.zeros(k, dtype=bool) if pinned is None else np.array(pinned, dtype=bool)
     on_circle = np.zeros(k, dtype=bool)
     on_circle[bnd] = True
     inner = np.flatnonzero(~on_circle)
@@ -429,6 +517,8 @@ def relax_on_surface(
             new_uv[grow], new_X[grow], new_face[grow] = uv[grow], X[grow], face[grow]
             s_new[grow[bnd]] = s[grow[bnd]]
         uv, X, face, s = new_uv, new_X, new_face, s_new
+    if snap > 0:
+        _snap_to_far_points(X, uv, face, Fo, bnd, pinned, V, F, disk_uv, snap)
     if min_quality > 0 and rounds > 0:
         _optimize_min_quality(
             X, uv, face, s, Fo, bnd, pinned, V, F, disk_uv, vertex_faces, curve, min_quality, rounds
