@@ -99,6 +99,8 @@ def progress_line(row):
         what += f" -> {row['faces']:>7}"
     if row.get("subdivide"):
         what += f" (subdivided {row['subdivide']}x)"
+    if row.get("variant"):
+        what += " ({method}, relax {relax})".format(**row["variant"])
     if row["status"] != "ok":
         return f"{what}  {row['status']}: {row['reason']}"
     return f"{what}  {row['time']['median']:.3f} s  ({row['wall_s']:.1f} s in all)"
@@ -283,6 +285,67 @@ def _remesh_section(results):
     used = {r["tool"]: r["setting"] for r in rows if r["status"] == "ok"}
     out.append("\nSettings: " + "; ".join(f"{TOOL_NAMES[t]}: {s}" for t, s in used.items()) + ".\n")
     return out
+
+
+# Ablations ----------------------------------------------------------------------------
+
+
+def _ablation_section(results):
+    rows = results["ablation"]
+    out = [
+        "## Ablations\n",
+        "qcremesh's methods at the input's face count (one run each): `uniform` (a regular mesh "
+        "of the disk projected as is, the paper's Fig. 7), `base` (the CVT base mesh at full "
+        "resolution), `subdivided` (base mesh and subdivision, Figs. 18-20 (c)), `teichmuller` "
+        "(and the Teichmueller map, Figs. 18-20 (d)); relax 0 is the paper's pipeline alone, "
+        "relax 40 adds the relaxation (the default).\n",
+    ]
+    header = ["mesh", "method", "relax", "faces", "time s", "q mean", "q min", "q 1%", "q>0.9",
+              "Hausdorff %", "mean dist %"]
+    table = []
+    for r in rows:
+        head = [r["name"], r["variant"]["method"], r["variant"]["relax"]]
+        if r["status"] != "ok":
+            table.append(head + _not_ok(r, len(header) - 3))
+            continue
+        q = r["quality"]
+        table.append(
+            head
+            + [
+                f"{q['faces']:,}",
+                _num(r["time"]["median"]),
+                f"{q['q_mean']:.3f}",
+                f"{q['q_min']:.3f}",
+                f"{q['q_p01']:.3f}",
+                f"{q['q_frac_above_0_9']:.3f}",
+                _pct(q["hausdorff"]),
+                _pct(q["mean_distance"]),
+            ]
+        )
+    out.append(_table(header, table))
+    out += _ablation_ordering(rows)
+    return out
+
+
+def _ablation_ordering(rows):
+    """The paper's claims per mesh, at relax 0: teichmuller has the best mean quality of
+    the four methods, uniform the largest Hausdorff distance."""
+    lines = ["\nThe paper's ordering, at relax 0 (the pipeline alone):\n"]
+    for name in dict.fromkeys(r["name"] for r in rows):
+        got = {
+            r["variant"]["method"]: r["quality"]
+            for r in rows
+            if r["name"] == name and r["variant"]["relax"] == 0 and r["status"] == "ok"
+        }
+        if len(got) < 4:
+            continue
+        best = max(got, key=lambda k: got[k]["q_mean"])
+        worst = max(got, key=lambda k: got[k]["hausdorff"])
+        lines.append(
+            f"- {name}: best mean q: {best} ({_verdict(best == 'teichmuller')}); largest "
+            f"Hausdorff distance: {worst} ({_verdict(worst == 'uniform')})"
+        )
+    return lines
 
 
 # Scaling ------------------------------------------------------------------------------
@@ -490,6 +553,8 @@ def markdown(results):
         out += _param_section(results)
     if results.get("remesh"):
         out += _remesh_section(results)
+    if results.get("ablation"):
+        out += _ablation_section(results)
     if results.get("scaling"):
         out += _scaling_section(results)
     targets = _param_targets(results) + (_remesh_targets(results) if results.get("remesh") else [])

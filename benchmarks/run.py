@@ -2,7 +2,7 @@
 
     python benchmarks/run.py [--data DIR] [--out DIR] [--quick] [--parts ...] [--tools ...]
 
-Three parts, each tool on each mesh in a process of its own (worker.py):
+Four parts, each tool on each mesh in a process of its own (worker.py):
 
 * param: disk parameterizations of every disk mesh (qcremesh's Algorithm 1, Tutte, libigl
   harmonic with arc-length boundary, libigl LSCM), with |mu| of the map disk -> surface,
@@ -10,6 +10,9 @@ Three parts, each tool on each mesh in a process of its own (worker.py):
 * remesh: qcremesh.remesh, pymeshlab, pyacvd and gpytoolbox remesh_botsch at the input's
   face count and at half of it, on every mesh of the folder, measured by the project's
   quality module.
+* ablation: qcremesh's methods uniform, base, subdivided and teichmuller (the paper's
+  Fig. 7 and Figs. 18-20), with and without the relaxation, at the input's face count on
+  foot, hand and human_face (the quick meshes in quick mode): what each stage adds.
 * scaling: qcremesh's parameterization and remesh on one mesh subdivided 0, 1 and 2 times.
 
 Writes results.md, results.json and PNG plots to --out; prints the tables.
@@ -38,6 +41,9 @@ QUICK_MESHES = ["fran_cut.ply", "venus.off"]
 PARAM_TOOLS = ["qcremesh", "tutte", "igl_harmonic", "igl_lscm"]
 REMESH_TOOLS = ["qcremesh", "pymeshlab", "pyacvd", "botsch"]
 SCALING_LEVELS = [0, 1, 2]
+ABLATION_MESHES = ["foot.off", "hand.ply", "human_face.obj"]
+ABLATION_METHODS = ["uniform", "base", "subdivided", "teichmuller"]
+ABLATION_RELAX = [0, 40]
 
 
 def parse_args(argv):
@@ -57,7 +63,7 @@ def parse_args(argv):
     )
     p.add_argument(
         "--parts",
-        default="param,remesh,scaling",
+        default="param,remesh,ablation,scaling",
         help="comma-separated subset of param,remesh,scaling",
     )
     p.add_argument("--tools", help="comma-separated subset of the tools (default: all)")
@@ -126,9 +132,10 @@ def inventory(folder, names):
     return meshes, skipped
 
 
-def run_job(job, args):
-    """Run worker.py on one job; the row it reports, or the failure."""
-    spec = dict(job, runs=args.runs, budget=args.budget)
+def run_job(job, args, runs=None):
+    """Run worker.py on one job (at most ``runs`` timed runs, ``--runs`` by default); the
+    row it reports, or the failure."""
+    spec = dict(job, runs=runs or args.runs, budget=args.budget)
     t0 = time.perf_counter()
     try:
         proc = subprocess.run(
@@ -196,6 +203,32 @@ def remesh_rows(meshes, args):
     return rows
 
 
+def ablation_rows(meshes, args):
+    """qcremesh's ablations with and without the relaxation, at the input's face count;
+    one timed run each (the quality is the point)."""
+    names = QUICK_MESHES if args.quick else ABLATION_MESHES
+    rows = []
+    if not selected(["qcremesh"], args):
+        return rows
+    for m in meshes:
+        if m["not_disk"] is not None or m["mesh"] not in names:
+            continue
+        for relax in ABLATION_RELAX:
+            for method in ABLATION_METHODS:
+                job = {
+                    "kind": "remesh",
+                    "tool": "qcremesh",
+                    "mesh": m["path"],
+                    "name": m["mesh"],
+                    "faces_in": m["faces"],
+                    "half": False,
+                    "faces": m["faces"],
+                    "variant": {"method": method, "relax": relax},
+                }
+                rows.append(run_job(job, args, runs=1))
+    return rows
+
+
 def scaling_rows(path, args):
     """qcremesh on the mesh subdivided 0, 1, 2 times; the remesh at the subdivided face
     count, not measured (the remesh part does that). A tool skipped at level 0 is not
@@ -235,6 +268,8 @@ def main(argv=None):
         results["param"] = [run_job(job, args) for job in parameterization_jobs(meshes, args)]
     if "remesh" in args.parts:
         results["remesh"] = remesh_rows(meshes, args)
+    if "ablation" in args.parts:
+        results["ablation"] = ablation_rows(meshes, args)
     if "scaling" in args.parts and (args.data / scaling_name).is_file():
         results["scaling"] = scaling_rows(args.data / scaling_name, args)
         results["scaling_fit"] = report.fit_exponents(results["scaling"])

@@ -98,6 +98,22 @@ def _qcremesh_remesh(V, F, faces):
     return result.V, result.F, dict(getattr(result, "times", {}))
 
 
+def qcremesh_variant(method, relax):
+    """qcremesh.remesh with one of the paper's ablations (``method``) and ``relax``
+    relaxation sweeps (0: the paper's pipeline alone)."""
+
+    def run(V, F, faces):
+        result = qcremesh.remesh(V, F, faces=faces, seed=0, method=method, relax=relax)
+        return result.V, result.F, dict(result.times)
+
+    return Remesher(
+        run,
+        lambda V, F, faces: faces,
+        False,
+        f"remesh(V, F, faces=N, method={method!r}, relax={relax}, seed=0)",
+    )
+
+
 def _pymeshlab(V, F, length):
     pymeshlab = _require("pymeshlab")
     ms = pymeshlab.MeshSet()

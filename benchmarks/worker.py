@@ -3,6 +3,9 @@
     python worker.py '{"kind": "param" | "remesh", "tool": ..., "mesh": PATH,
                        "subdivide": 0, "faces": N, "runs": 3, "budget": 5}'
 
+A remesh job with ``"variant": {"method": ..., "relax": ...}`` runs that ablation of
+qcremesh (``tools.qcremesh_variant``).
+
 Remesh only: ``faces`` defaults to the face count of the (subdivided) input, and with
 ``"measure": false`` the output is not measured (time and memory only). Loading
 and subdividing the mesh are not timed. The tool runs up to ``runs`` times, fewer when
@@ -116,7 +119,10 @@ def run_remesher(job, V, F):
     """Remesh to ``job["faces"]`` faces. A tool that takes an edge length is run with the length
     of equilateral triangles of that count, then corrected by sqrt(faces / wanted) until
     within FACE_TOLERANCE; the run with the final length is the first timed run."""
-    tool = tools.REMESHERS[job["tool"]]
+    if "variant" in job:
+        tool = tools.qcremesh_variant(**job["variant"])
+    else:
+        tool = tools.REMESHERS[job["tool"]]
     wanted = job.get("faces", len(F))
     stages = []
 
