@@ -1,0 +1,116 @@
+"""Moving vertices on a triangle surface: closest points searched near a known face, the
+boundary polyline parameterized by arc length, and a sparse-row gather they share.
+
+Used by the relaxation (:mod:`qcremesh.remeshing.relax`), the snapping
+(:mod:`qcremesh.remeshing.snap`) and the minimum-quality search
+(:mod:`qcremesh.remeshing.min_quality`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..adaptive.landmarks import boundary_angles, interpolate_on_boundary, smoothed_arc_length
+from ..geometry.distance import point_triangle_distance
+from ..mesh.topology import boundary_loop
+
+__all__ = ["closest_point_near", "BoundaryCurve", "csr_rows"]
+
+
+def closest_point_near(P, face, V, F, vertex_faces, rounds=4):
+    """Closest points on a triangle mesh, searched among the faces around a given face.
+
+    For each point, the candidates are the faces that share a vertex with its current
+    face; the nearest candidate becomes the current face, and the search repeats (at most
+    ``rounds`` times) until the face no longer changes.
+
+    Parameters
+    ----------
+    P : (k, 3) float
+    face : (k,) int
+        Starting faces.
+    V : (n, 3) float
+    F : (m, 3) int
+    vertex_faces : (n, m) sparse
+        Vertex-face incidence.
+    rounds : int
+
+    Returns
+    -------
+    face : (k,) int64
+    closest : (k, 3) float
+    bary : (k, 3) float
+        Barycentric coordinates of the closest point in ``face``.
+    """
+    face = np.asarray(face, dtype=np.int64).copy()
+    closest = np.zeros_like(P, dtype=np.float64)
+    bary = np.zeros((len(P), 3))
+    indptr, indices = vertex_faces.indptr, vertex_faces.indices
+    # Most points stay over their face: accept the projection onto its plane when it
+    # falls inside the face (that is then the closest point of the face, and of the
+    # faces around it unless the surface folds back within a step).
+    T = V[F[face]]
+    e1, e2 = T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]
+    r = P - T[:, 0]
+    g11, g12, g22 = (e1 * e1).sum(1), (e1 * e2).sum(1), (e2 * e2).sum(1)
+    r1, r2 = (r * e1).sum(1), (r * e2).sum(1)
+    det = g11 * g22 - g12 * g12
+    b1 = (g22 * r1 - g12 * r2) / det
+    b2 = (g11 * r2 - g12 * r1) / det
+    stay = (b1 >= 0) & (b2 >= 0) & (b1 + b2 <= 1)
+    bary[stay] = np.column_stack([1 - b1 - b2, b1, b2])[stay]
+    closest[stay] = T[stay, 0] + b1[stay, None] * e1[stay] + b2[stay, None] * e2[stay]
+    active = np.flatnonzero(~stay)
+    for _ in range(rounds):
+        if len(active) == 0:
+            break
+        corners = F[face[active]].ravel()
+        counts = indptr[corners + 1] - indptr[corners]
+        owner = np.repeat(np.repeat(np.arange(len(active)), 3), counts)
+        starts = np.repeat(indptr[corners], counts)
+        offset = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+        cand = indices[starts + offset]
+        T = V[F[cand]]
+        dist, cp, b = point_triangle_distance(P[active][owner], T[:, 0], T[:, 1], T[:, 2])
+        order = np.lexsort((dist, owner))
+        first = order[np.r_[0, np.flatnonzero(np.diff(owner[order])) + 1]]
+        new_face = cand[first]
+        closest[active], bary[active] = cp[first], b[first]
+        changed = new_face != face[active]
+        face[active] = new_face
+        active = active[changed]
+    return face, closest, bary
+
+
+def csr_rows(M, rows):
+    """Column indices of the given rows of a CSR matrix, concatenated, and the position
+    in ``rows`` each comes from."""
+    counts = M.indptr[rows + 1] - M.indptr[rows]
+    owner = np.repeat(np.arange(len(rows)), counts)
+    offset = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    return M.indices[np.repeat(M.indptr[rows], counts) + offset], owner
+
+
+class BoundaryCurve:
+    """The input boundary polyline parameterized by its arc length s in
+    [0, perimeter) smoothed at the scale ``width`` (see
+    :func:`~qcremesh.adaptive.landmarks.smoothed_arc_length`), with its points on the
+    surface and their images on the circle (linear in s on every edge, as the disk map
+    is)."""
+
+    def __init__(self, disk_uv, F, V, width):
+        self.loop = boundary_loop(F)
+        self.theta = boundary_angles(disk_uv, self.loop)
+        self.theta_knots = np.r_[self.theta, self.theta[0] + 2 * np.pi]
+        self.points = V[self.loop]
+        self.s = smoothed_arc_length(self.points, width)
+        self.perimeter = self.s[-1]
+
+    def arc_length(self, theta):
+        """Smoothed arc length of the boundary points at circle angles ``theta``, (k,)."""
+        return np.interp(self.theta[0] + np.mod(theta - self.theta[0], 2 * np.pi), self.theta_knots, self.s)
+
+    def at(self, s):
+        """Disk positions (k, 2) and surface positions (k, 3) of the points at arc length s."""
+        theta = np.interp(np.mod(s, self.perimeter), self.s, self.theta_knots)
+        return np.column_stack([np.cos(theta), np.sin(theta)]), interpolate_on_boundary(self.theta, self.points, theta)
