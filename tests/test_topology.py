@@ -69,3 +69,14 @@ def test_unique_integers_matches_numpy():
     a = np.random.default_rng(0).integers(0, 50, size=(40, 3))
     np.testing.assert_array_equal(t.unique_integers(a), np.unique(a))
     assert t.unique_integers(np.zeros(0, dtype=np.int64)).shape == (0,)
+
+
+def test_edge_pairs_packed_and_argsort_paths_agree():
+    """Positions of equal keys, paired with the next equal one; the fast packed sort and
+    the argsort used when key * len would overflow give the same pairs."""
+    key = np.array([5, 3, 5, 7, 3, 5])
+    i, j = t._edge_pairs(key)
+    assert sorted(zip(i.tolist(), j.tolist())) == [(0, 2), (1, 4), (2, 5)]
+    big = key + 2**62
+    i2, j2 = t._edge_pairs(big)
+    assert sorted(zip(i2.tolist(), j2.tolist())) == [(0, 2), (1, 4), (2, 5)]
