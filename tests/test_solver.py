@@ -5,7 +5,12 @@ import scipy.sparse.linalg as spla
 
 from conftest import DATA, grid_disk
 from qcremesh.beltrami.coefficient import beltrami_coefficient
-from qcremesh.beltrami.solver import beltrami_tensor, generalized_laplacian, linear_beltrami_solver
+from qcremesh.beltrami.solver import (
+    beltrami_tensor,
+    generalized_laplacian,
+    generalized_laplacian_weights,
+    linear_beltrami_solver,
+)
 from qcremesh.geometry import linsolve
 from qcremesh.geometry.operators import cotmatrix, uniform_laplacian
 from qcremesh.mesh.io import read_mesh
@@ -111,3 +116,10 @@ def test_spd_solver_refactorize(backend):
     np.testing.assert_allclose(A3 @ solve.refactorize(A3)(rhs), rhs, atol=1e-10)
     with pytest.raises(ValueError, match=r"refactorize needs a \(\d+, \d+\) matrix"):
         solve.refactorize(sp.eye(3))
+
+
+def test_generalized_laplacian_weights_are_half_cotangents_for_mu_zero():
+    """With mu = 0 the entry of an edge is half the cotangent of the angle opposite it."""
+    uv = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    w = generalized_laplacian_weights(uv, np.array([[0, 1, 2]]), np.zeros(1, dtype=complex))
+    np.testing.assert_allclose(w, [[0.5, 0.0, 0.5]], atol=1e-15)

@@ -21,7 +21,7 @@ from ..geometry.linsolve import dirichlet_solve
 from ..geometry.operators import doublearea
 from .coefficient import mu_chop
 
-__all__ = ["beltrami_tensor", "generalized_laplacian", "linear_beltrami_solver"]
+__all__ = ["beltrami_tensor", "generalized_laplacian", "generalized_laplacian_weights", "linear_beltrami_solver"]
 
 
 def beltrami_tensor(mu):
@@ -71,27 +71,49 @@ def generalized_laplacian(uv, F, mu):
     uv = np.asarray(uv, dtype=np.float64)
     F = np.asarray(F)
     n = len(uv)
+    off = generalized_laplacian_weights(uv, F, mu)
+    i, j = np.array([0, 1, 2]), np.array([1, 2, 0])
+    rows, cols = F[:, i].ravel(), F[:, j].ravel()
+    off = off.ravel()
+    # the diagonal follows from the zero row sums (the w_i of a face sum to zero)
+    diag = -np.bincount(np.r_[rows, cols], weights=np.r_[off, off], minlength=n)
+    return sp.csr_matrix(
+        (np.r_[off, off, diag], (np.r_[rows, cols, np.arange(n)], np.r_[cols, rows, np.arange(n)])),
+        shape=(n, n),
+    )
+
+
+def generalized_laplacian_weights(uv, F, mu):
+    """Off-diagonal element entries of the generalized Laplacian (Eq. 16), per face.
+
+    L_ij = -w_i^T A_T w_j / (4 |T|) for the corner pairs (i, j) = (0, 1), (1, 2), (2, 0)
+    of every face (see :func:`generalized_laplacian`, which sums them over the faces).
+
+    Parameters
+    ----------
+    uv : (n, 2) float
+    F : (m, 3) int
+    mu : (m,) complex, |mu| < 1
+
+    Returns
+    -------
+    (m, 3) float
+        Column k is the entry of the pair (k, k + 1 mod 3).
+    """
+    uv = np.asarray(uv, dtype=np.float64)
+    F = np.asarray(F)
     a1, a2, a3 = beltrami_tensor(mu)
     P = uv[F]
     # w[:, k] = (y_{k+1} - y_{k+2}, x_{k+2} - x_{k+1})
     d = np.roll(P, -2, axis=1) - np.roll(P, -1, axis=1)  # P[k+2] - P[k+1]
     wx, wy = -d[:, :, 1], d[:, :, 0]
     area4 = 2.0 * doublearea(uv, F)
-    # Off-diagonal entries of the pairs (0, 1), (1, 2), (2, 0); the diagonal follows from
-    # the zero row sums (the w_i of a face sum to zero).
     i, j = np.array([0, 1, 2]), np.array([1, 2, 0])
-    off = -(
+    return -(
         a1[:, None] * wx[:, i] * wx[:, j]
         + a2[:, None] * (wx[:, i] * wy[:, j] + wx[:, j] * wy[:, i])
         + a3[:, None] * wy[:, i] * wy[:, j]
     ) / area4[:, None]
-    rows, cols = F[:, i].ravel(), F[:, j].ravel()
-    off = off.ravel()
-    diag = -np.bincount(np.r_[rows, cols], weights=np.r_[off, off], minlength=n)
-    return sp.csr_matrix(
-        (np.r_[off, off, diag], (np.r_[rows, cols, np.arange(n)], np.r_[cols, rows, np.arange(n)])),
-        shape=(n, n),
-    )
 
 
 def linear_beltrami_solver(uv, F, mu, landmarks, targets, *, bound=1.0, chop=0.95):

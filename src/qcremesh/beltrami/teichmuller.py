@@ -74,7 +74,7 @@ import scipy.sparse as sp
 from ..geometry.linsolve import spd_solver
 from ..geometry.operators import doublearea, signed_doublearea
 from .coefficient import face_to_vertex, mu_chop, vertex_to_face
-from .solver import beltrami_tensor
+from .solver import generalized_laplacian_weights
 
 __all__ = ["TeichmullerResult", "teichmuller_map", "circle_boundary_positions", "equilateral_coefficient"]
 
@@ -348,10 +348,7 @@ class _LBS:
         n = len(uv)
         self.n = n
         self.values = values
-        P = uv[F]
-        d = np.roll(P, -2, axis=1) - np.roll(P, -1, axis=1)  # P[k+2] - P[k+1]
-        self.wx, self.wy = -d[:, :, 1], d[:, :, 0]
-        self.area4 = 2.0 * doublearea(uv, F)
+        self.uv, self.F = uv, F
         self.known = np.asarray(known)
         slot = np.full(n, -1)
         free = np.ones(n, dtype=bool)
@@ -380,17 +377,7 @@ class _LBS:
         self.solver = None
 
     def __call__(self, mu):
-        a1, a2, a3 = beltrami_tensor(mu)
-        wx, wy = self.wx, self.wy
-        i, j = [0, 1, 2], [1, 2, 0]
-        off = (
-            -(
-                a1[:, None] * wx[:, i] * wx[:, j]
-                + a2[:, None] * (wx[:, i] * wy[:, j] + wx[:, j] * wy[:, i])
-                + a3[:, None] * wy[:, i] * wy[:, j]
-            )
-            / self.area4[:, None]
-        ).ravel()
+        off = generalized_laplacian_weights(self.uv, self.F, mu).ravel()
         A = _assemble(self.a_pattern, self.a_sign * off[self.a_edge])
         B = _assemble(self.b_pattern, off[self.b_edge])
         self.solver = spd_solver(A) if self.solver is None else self.solver.refactorize(A)
