@@ -6,7 +6,7 @@ from conftest import grid_disk
 from qcremesh.adaptive.basemesh import delaunay_disk_mesh, hexagonal_disk_points
 from qcremesh.geometry.locate import locate_points
 from qcremesh.geometry.quality import radius_ratio
-from qcremesh.mesh.topology import boundary_loop, vertex_face_incidence
+from qcremesh.mesh.topology import adjacency_matrix, boundary_loop, vertex_face_incidence
 from qcremesh.remeshing.onsurface import closest_point_near
 from qcremesh.remeshing.relax import relax_on_surface
 from qcremesh.remeshing.snap import snap_to_far_points
@@ -46,7 +46,9 @@ def test_snap_moves_the_nearest_vertex_onto_a_tip():
     X = np.einsum("kc,kcd->kd", locate_points(uv_in, F, uv)[1], V[F[face]])
     pinned = np.zeros(len(X), dtype=bool)
     before = X.copy()
-    snap_to_far_points(X, uv, face, Fo, boundary_loop(Fo), pinned, V, F, uv_in, 1.0)
+    A, VF = adjacency_matrix(Fo, len(X)), vertex_face_incidence(Fo, len(X))
+    vertex_faces = vertex_face_incidence(F, len(V))
+    snap_to_far_points(X, uv, face, Fo, A, VF, boundary_loop(Fo), pinned, V, F, uv_in, vertex_faces, 1.0)
     moved = np.flatnonzero(np.any(X != before, axis=1))
     assert len(moved) == 1 and pinned[moved[0]] and pinned.sum() == 1
     np.testing.assert_array_equal(X[moved[0]], V[tip])

@@ -13,8 +13,7 @@ import numpy as np
 
 from ..geometry.locate import interpolate_barycentric
 from ..geometry.quality import radius_ratio
-from ..mesh.topology import adjacency_matrix, vertex_face_incidence
-from .onsurface import closest_point_near, csr_rows
+from .onsurface import closest_point_near, csr_rows, independent_first
 
 __all__ = ["raise_min_quality"]
 
@@ -98,7 +97,7 @@ _STEPS = np.array([0.02, 0.06, 0.15, 0.3, 0.5])
 _DIRECTIONS = 8
 
 
-def raise_min_quality(X, uv, face, s, Fo, bnd, pinned, V, F, disk_uv, vertex_faces, curve, target, rounds):
+def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, V, F, disk_uv, vertex_faces, curve, target, rounds):
     """Pattern search that raises the smallest radius ratio of the faces around the
     vertices of the worst faces, in place.
 
@@ -125,6 +124,10 @@ def raise_min_quality(X, uv, face, s, Fo, bnd, pinned, V, F, disk_uv, vertex_fac
         Arc length of the output boundary vertices along ``curve`` (updated).
     Fo : (l, 3) int
         Output faces.
+    A : (k, k) CSR
+        Vertex adjacency of ``Fo``.
+    VF : (k, l) CSR
+        Vertex-face incidence of ``Fo``.
     bnd : (b,) int
         Output boundary loop.
     pinned : (k,) bool
@@ -144,8 +147,6 @@ def raise_min_quality(X, uv, face, s, Fo, bnd, pinned, V, F, disk_uv, vertex_fac
         Maximum number of rounds.
     """
     k = len(X)
-    VF = vertex_face_incidence(Fo, k)
-    A = adjacency_matrix(Fo, k)
     where_bnd = np.full(k, -1)
     where_bnd[bnd] = np.arange(len(bnd))
     angles = 2 * np.pi * np.arange(_DIRECTIONS) / _DIRECTIONS
@@ -164,11 +165,8 @@ def raise_min_quality(X, uv, face, s, Fo, bnd, pinned, V, F, disk_uv, vertex_fac
         # An independent set: the active vertices whose star is worse than any active
         # neighbour's (ties by index), so no two moving vertices share a face.
         act = np.flatnonzero(active)
-        rank = np.full(k, len(act))
-        rank[act[np.lexsort((act, qv[act]))]] = np.arange(len(act))
-        ring, owner = csr_rows(A, act)
-        starts = np.r_[0, np.cumsum(np.diff(A.indptr)[act])[:-1]]
-        sel = act[rank[act] < np.minimum.reduceat(rank[ring], starts)]
+        act = act[np.lexsort((act, qv[act]))]
+        sel = np.sort(act[independent_first(A, act)])
         ring, owner = csr_rows(A, sel)
         reach = np.zeros(k)
         reach[sel] = np.bincount(owner, np.linalg.norm(X[ring] - X[sel[owner]], axis=1)) / np.bincount(owner)

@@ -14,7 +14,7 @@ from ..adaptive.landmarks import boundary_angles, interpolate_on_boundary, smoot
 from ..geometry.distance import point_triangle_distance
 from ..mesh.topology import boundary_loop
 
-__all__ = ["closest_point_near", "BoundaryCurve", "csr_rows"]
+__all__ = ["closest_point_near", "BoundaryCurve", "csr_rows", "independent_first"]
 
 
 def closest_point_near(P, face, V, F, vertex_faces, rounds=4):
@@ -89,6 +89,31 @@ def csr_rows(M, rows):
     owner = np.repeat(np.arange(len(rows)), counts)
     offset = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
     return M.indices[np.repeat(M.indptr[rows], counts) + offset], owner
+
+
+def independent_first(A, verts):
+    """The vertices of ``verts`` with no neighbour earlier in ``verts``.
+
+    With ``verts`` in order of priority, the kept ones are pairwise non-adjacent, so
+    moving all of them at once changes no face twice.
+
+    Parameters
+    ----------
+    A : (k, k) CSR
+        Vertex adjacency of the mesh.
+    verts : (p,) int
+        Distinct vertices, first the most urgent.
+
+    Returns
+    -------
+    (p,) bool
+    """
+    rank = np.full(A.shape[0], len(verts))
+    rank[verts] = np.arange(len(verts))
+    ring, owner = csr_rows(A, verts)
+    lowest = np.full(len(verts), len(verts))
+    np.minimum.at(lowest, owner, rank[ring])
+    return lowest > np.arange(len(verts))
 
 
 class BoundaryCurve:

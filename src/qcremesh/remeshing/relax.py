@@ -164,9 +164,9 @@ def relax_on_surface(
             s_new[grow[bnd]] = s[grow[bnd]]
         uv, X, face, s = new_uv, new_X, new_face, s_new
     if snap > 0:
-        snap_to_far_points(X, uv, face, Fo, bnd, pinned, V, F, disk_uv, snap)
+        snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, V, F, disk_uv, vertex_faces, snap)
     if min_quality > 0 and rounds > 0:
         raise_min_quality(
-            X, uv, face, s, Fo, bnd, pinned, V, F, disk_uv, vertex_faces, curve, min_quality, rounds
+            X, uv, face, s, Fo, A, VF, bnd, pinned, V, F, disk_uv, vertex_faces, curve, min_quality, rounds
         )
     return uv, X

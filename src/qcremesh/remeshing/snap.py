@@ -15,8 +15,8 @@ from scipy.spatial import cKDTree
 from ..geometry.distance import point_mesh_distance
 from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
-from ..mesh.topology import adjacency_matrix, edges, vertex_face_incidence
-from .onsurface import csr_rows
+from ..mesh.topology import adjacency_matrix, edges
+from .onsurface import csr_rows, independent_first
 
 __all__ = ["snap_to_far_points"]
 
@@ -24,7 +24,7 @@ __all__ = ["snap_to_far_points"]
 MIN_QUALITY = 0.3
 
 
-def snap_to_far_points(X, uv, face, Fo, bnd, pinned, V, F, disk_uv, reach):
+def snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, V, F, disk_uv, vertex_faces, reach):
     """Move output vertices onto the input vertices farthest from the output surface (the
     bottoms of pockets and the tips the output cuts across): the input vertices farther
     than ``reach`` times the mean output edge length from the output, and at least as far
@@ -42,6 +42,10 @@ def snap_to_far_points(X, uv, face, Fo, bnd, pinned, V, F, disk_uv, reach):
         Input face under each output vertex (updated).
     Fo : (l, 3) int
         Output faces.
+    A : (k, k) CSR
+        Vertex adjacency of ``Fo``.
+    VF : (k, l) CSR
+        Vertex-face incidence of ``Fo``.
     bnd : (b,) int
         Output boundary loop (its vertices do not move).
     pinned : (k,) bool
@@ -51,6 +55,8 @@ def snap_to_far_points(X, uv, face, Fo, bnd, pinned, V, F, disk_uv, reach):
         The input surface.
     disk_uv : (n, 2) float
         Its disk parameterization.
+    vertex_faces : (n, m) CSR
+        Vertex-face incidence of ``F``.
     reach : float
         In mean output edge lengths.
     """
@@ -86,16 +92,8 @@ def snap_to_far_points(X, uv, face, Fo, bnd, pinned, V, F, disk_uv, reach):
     first = np.sort(first)  # farthest first
     far, target = far[first], target[first]
     # no two moving vertices on one face: a vertex yields to a farther neighbour
-    rank = np.full(k, len(target))
-    rank[target] = np.arange(len(target))
-    A = adjacency_matrix(Fo, k)
-    ring, owner = csr_rows(A, target)
-    lowest = np.full(len(target), len(target))
-    np.minimum.at(lowest, owner, rank[ring])
-    free = lowest > np.arange(len(target))
+    free = independent_first(A, target)
     far, target = far[free], target[free]
-    VF = vertex_face_incidence(Fo, k)
-    vf_in = vertex_face_incidence(F, len(V))
     old_X, old_uv = X[target].copy(), uv[target].copy()
     X[target], uv[target] = V[far], disk_uv[far]
     star, owner = csr_rows(VF, target)
@@ -103,5 +101,5 @@ def snap_to_far_points(X, uv, face, Fo, bnd, pinned, V, F, disk_uv, reach):
     ok = np.bincount(owner, weights=~ok_face, minlength=len(target)) == 0
     X[target[~ok]], uv[target[~ok]] = old_X[~ok], old_uv[~ok]
     target, far = target[ok], far[ok]
-    face[target] = vf_in.indices[vf_in.indptr[far]]
+    face[target] = vertex_faces.indices[vertex_faces.indptr[far]]
     pinned[target] = True
