@@ -123,3 +123,7 @@ def test_generalized_laplacian_weights_are_half_cotangents_for_mu_zero():
     uv = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
     w = generalized_laplacian_weights(uv, np.array([[0, 1, 2]]), np.zeros(1, dtype=complex))
     np.testing.assert_allclose(w, [[0.5, 0.0, 0.5]], atol=1e-15)
+
+
+def test_complement():
+    np.testing.assert_array_equal(linsolve.complement(np.array([3, 0, 5]), 7), [1, 2, 4, 6])

@@ -71,7 +71,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from ..geometry.linsolve import spd_solver
+from ..geometry.linsolve import complement, spd_solver
 from ..geometry.operators import doublearea, signed_doublearea
 from .coefficient import face_to_vertex, mu_chop, vertex_to_face
 from .solver import generalized_laplacian_weights
@@ -351,9 +351,7 @@ class _LBS:
         self.uv, self.F = uv, F
         self.known = np.asarray(known)
         slot = np.full(n, -1)
-        free = np.ones(n, dtype=bool)
-        free[self.known] = False
-        self.free = np.flatnonzero(free)
+        self.free = complement(self.known, n)
         slot[self.free] = np.arange(len(self.free))
         slot_k = np.full(n, -1)
         slot_k[self.known] = np.arange(len(self.known))

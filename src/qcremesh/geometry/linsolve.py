@@ -21,7 +21,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-__all__ = ["SPDSolver", "spd_solver", "solver_backend", "dirichlet_solve"]
+__all__ = ["SPDSolver", "spd_solver", "solver_backend", "dirichlet_solve", "complement"]
 
 try:
     import pypardiso as _pypardiso
@@ -212,6 +212,13 @@ def spd_solver(A, backend=None):
     return SPDSolver(_csr(A), backend)
 
 
+def complement(indices, n):
+    """The indices 0..n-1 not in ``indices``, increasing, (n - k,) int64."""
+    keep = np.ones(n, dtype=bool)
+    keep[indices] = False
+    return np.flatnonzero(keep)
+
+
 def dirichlet_solve(L, known, values, solve_free=None):
     """Solve L x = 0 at the free vertices with x prescribed at ``known``.
 
@@ -236,9 +243,7 @@ def dirichlet_solve(L, known, values, solve_free=None):
     L = sp.csr_matrix(L)
     n = L.shape[0]
     known = np.asarray(known)
-    free = np.ones(n, dtype=bool)
-    free[known] = False
-    free = np.flatnonzero(free)
+    free = complement(known, n)
     values = np.asarray(values)
     rows = L[free]
     if solve_free is None:

@@ -52,7 +52,7 @@ import scipy.sparse as sp
 
 from ..beltrami.coefficient import beltrami_coefficient
 from ..beltrami.solver import generalized_laplacian
-from ..geometry.linsolve import dirichlet_solve, spd_solver
+from ..geometry.linsolve import complement, dirichlet_solve, spd_solver
 from ..geometry.operators import doublearea, signed_doublearea
 from ..mesh.topology import boundary_loop
 from ..mesh.validate import check_disk
@@ -135,7 +135,7 @@ def harmonic_measure(L, bnd, p, solve_interior=None):
     solve_interior : callable
     """
     n = L.shape[0]
-    interior = _complement(bnd, n)
+    interior = complement(bnd, n)
     if solve_interior is None:
         solve_interior = spd_solver(-L[interior][:, interior])
     e = np.zeros(len(interior))
@@ -143,13 +143,6 @@ def harmonic_measure(L, bnd, p, solve_interior=None):
     G = np.zeros(n)
     G[interior] = solve_interior(e)
     return (L[bnd] @ G), solve_interior
-
-
-def _complement(indices, n):
-    """The vertices 0..n-1 not in ``indices``, increasing."""
-    keep = np.ones(n, dtype=bool)
-    keep[indices] = False
-    return np.flatnonzero(keep)
 
 
 def _clamped(L, floor):
@@ -198,7 +191,7 @@ def disk_conformal_map(V, F, *, check=True):
     t3 = time.perf_counter()
     times["beltrami"] = t3 - t2
 
-    interior = _complement(bnd, n)
+    interior = complement(bnd, n)
     solve_interior = solver.refactorize(-L[interior][:, interior])
     # Torsion function: its maximum is the deepest point, mapped to 0.
     area = np.bincount(F.ravel(), weights=np.repeat(doublearea(V, F) / 6, 3), minlength=n)
@@ -261,6 +254,6 @@ def _free_boundary_map(L, F, bnd, omega, solve_interior):
     weights = L.data[L.indices != np.repeat(np.arange(L.shape[0]), np.diff(L.indptr))]
     floor = 1e-2 * np.median(weights[weights > 0])
     C = _clamped(L, floor)
-    interior = _complement(bnd, L.shape[0])
+    interior = complement(bnd, L.shape[0])
     z, _ = dirichlet_solve(C, bnd, zb, solve_interior.refactorize(-C[interior][:, interior]))
     return z, folded

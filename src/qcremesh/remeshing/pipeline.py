@@ -133,14 +133,15 @@ def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
 
 
 def _plan(V, F, bnd, faces, levels):
-    """Numbers of boundary and interior landmarks for ``faces`` output faces."""
+    """Numbers of boundary and interior landmarks for ``faces`` output faces, and the
+    spacing of the boundary landmarks along the boundary."""
     base_faces = max(faces / 4**levels, 4.0)
     area = doublearea(V, F).sum() / 2
     h = np.sqrt(4 * area / (np.sqrt(3) * base_faces))
     perimeter = np.linalg.norm(V[np.roll(bnd, -1)] - V[bnd], axis=1).sum()
     nb = max(int(round(perimeter / h)), 3)
     ni = max(int(round((base_faces - nb + 2) / 2)), 0)
-    return nb, ni
+    return nb, ni, perimeter / nb
 
 
 def remesh(
@@ -236,7 +237,7 @@ def remesh(
 
     stage("landmarks")
     bnd = dm.boundary
-    nb, ni = _plan(V, F, bnd, faces, levels)
+    nb, ni, boundary_spacing = _plan(V, F, bnd, faces, levels)
     if method == "uniform":
         spacing = np.sqrt(4 * np.pi / (np.sqrt(3) * max(faces / 4**levels, 4.0)))
         nbu = max(int(round(2 * np.pi / spacing)), 3)
@@ -303,8 +304,7 @@ def remesh(
         stage("relax")
         pinned = np.zeros(len(uv), dtype=bool)
         pinned[: len(theta)] = corner if method != "uniform" else False
-        perimeter = np.linalg.norm(V[np.roll(bnd, -1)] - V[bnd], axis=1).sum()
-        scale = perimeter / max(nb, 3)
+        scale = boundary_spacing
         sweeps = relax
         if method == "subdivided" and levels > 0:
             # Coarse to fine: the level below the output takes the sweeps (a quarter of
