@@ -67,6 +67,19 @@ def interpolate_on_boundary(theta_b, values_b, theta):
     return (1 - s)[:, None] * vals[i] + s[:, None] * vals[i + 1]
 
 
+def _arc_length(P):
+    """Arc length of a closed polyline at its vertices and, last, of the whole loop, (b + 1,)."""
+    return np.r_[0.0, np.cumsum(np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1))]
+
+
+def _point_at(P, s, x):
+    """Points of the closed polyline P (arc lengths ``s`` from :func:`_arc_length`) at arc
+    lengths x, taken modulo its length, (len(x), d)."""
+    closed = np.concatenate([P, P[:1]])
+    x = np.mod(x, s[-1])
+    return np.column_stack([np.interp(x, s, closed[:, k]) for k in range(P.shape[1])])
+
+
 def boundary_corners(V, bnd, angle=45.0, scale=None):
     """Boundary vertices where the boundary turns by more than ``angle`` degrees.
 
@@ -86,19 +99,14 @@ def boundary_corners(V, bnd, angle=45.0, scale=None):
         Positions in ``bnd`` (not vertex indices), increasing.
     """
     P = np.asarray(V, dtype=np.float64)[bnd]
-    seg = np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1)
-    s = np.r_[0.0, np.cumsum(seg)]
+    s = _arc_length(P)
     perimeter = s[-1]
-    closed = np.concatenate([P, P[:1]])
 
     def turning(h):
         if h is None:
             before, after = np.roll(P, 1, axis=0), np.roll(P, -1, axis=0)
         else:
-            at = lambda x: np.column_stack(  # noqa: E731
-                [np.interp(np.mod(x, perimeter), s, closed[:, k]) for k in range(P.shape[1])]
-            )
-            before, after = at(s[:-1] - h / 2), at(s[:-1] + h / 2)
+            before, after = _point_at(P, s, s[:-1] - h / 2), _point_at(P, s, s[:-1] + h / 2)
         a, b = P - before, after - P
         cos = (a * b).sum(1) / np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
         return np.degrees(np.arccos(np.clip(cos, -1, 1)))
@@ -140,14 +148,12 @@ def smoothed_arc_length(P, width):
         sigma at the vertices and, last, sigma of the whole loop.
     """
     P = np.asarray(P, dtype=np.float64)
-    seg = np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1)
-    s = np.r_[0.0, np.cumsum(seg)]
+    s = _arc_length(P)
     perimeter = s[-1]
     m = max(8 * len(P), int(np.ceil(8 * perimeter / max(width, 1e-300))))
     m = min(m, 64 * len(P))
     t = perimeter * np.arange(m) / m
-    closed = np.concatenate([P, P[:1]])
-    Q = np.column_stack([np.interp(t, s, closed[:, k]) for k in range(P.shape[1])])
+    Q = _point_at(P, s, t)
     half = int(min(round(width / 2 / (perimeter / m)), (m - 1) // 2))
     padded = np.concatenate([Q[m - half :], Q, Q[:half]])
     csum = np.concatenate([np.zeros((1, P.shape[1])), np.cumsum(padded, axis=0)])
@@ -187,11 +193,8 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0):
     is_corner : (k,) bool
     """
     theta_b = boundary_angles(uv, bnd)
-    P = np.asarray(V)[bnd]
-    seg = np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1)
-    s = np.r_[0.0, np.cumsum(seg)]  # arc length at b_0 .. b_{b-1}, b_0 again
-    perimeter = s[-1]
-    scale = perimeter / max(count, 3)
+    P = np.asarray(V, dtype=np.float64)[bnd]
+    scale = _arc_length(P)[-1] / max(count, 3)
     corners = boundary_corners(V, bnd, corner_angle, scale=scale)
     sigma = smoothed_arc_length(P, scale)
     total = sigma[-1]
