@@ -35,24 +35,61 @@ def flat_disk(spacing):
     return np.column_stack([uv, np.zeros(len(uv))]), F, uv
 
 
-def test_snap_moves_the_nearest_vertex_onto_a_tip():
-    """A coarse mesh of a plane with a tip the coarse mesh cuts across: the output vertex
-    nearest the tip moves onto it and is pinned; the others stay."""
+def _snap_setup(height, width=0.0, tip_uv=(0.125, 0.07)):
+    """A coarse mesh of a plane (spacing 0.25) over a fine one (0.05) with a cone of
+    ``height`` whose base has radius ``width`` (0: one raised vertex) inside a coarse
+    face; the coarse vertices lifted onto it."""
     V, F, uv_in = flat_disk(0.05)
-    tip = np.argmin(np.linalg.norm(uv_in - [0.125, 0.07], axis=1))  # inside an output face
-    V[tip, 2] = 0.3
+    tip = np.argmin(np.linalg.norm(uv_in - tip_uv, axis=1))
+    V[tip, 2] = height
+    if width > 0:
+        V[:, 2] = height * np.maximum(0, 1 - np.linalg.norm(uv_in - uv_in[tip], axis=1) / width)
     X, Fo, uv = flat_disk(0.25)
-    face = locate_points(uv_in, F, uv)[0]
-    X = np.einsum("kc,kcd->kd", locate_points(uv_in, F, uv)[1], V[F[face]])
-    pinned = np.zeros(len(X), dtype=bool)
-    before = X.copy()
+    face, bary, _ = locate_points(uv_in, F, uv)
+    X = np.einsum("kc,kcd->kd", bary, V[F[face]])
+    return V, F, uv_in, tip, X, Fo, uv, face
+
+
+def _snap(V, F, uv_in, X, Fo, uv, face):
+    pinned, snapped = np.zeros(len(X), dtype=bool), np.zeros(len(X), dtype=bool)
     A, VF = adjacency_matrix(Fo, len(X)), vertex_face_incidence(Fo, len(X))
     vertex_faces = vertex_face_incidence(F, len(V))
-    snap_to_far_points(X, uv, face, Fo, A, VF, boundary_loop(Fo), pinned, V, F, uv_in, vertex_faces, 1.0)
+    snap_to_far_points(X, uv, face, Fo, A, VF, boundary_loop(Fo), pinned, snapped, V, F, uv_in, vertex_faces, 1.0)
+    assert not pinned.any()
+    return snapped
+
+
+def test_snap_moves_the_nearest_vertex_onto_a_tip():
+    """A tip the coarse mesh cuts across: the output vertex nearest the tip moves onto it
+    and is flagged; the others stay."""
+    V, F, uv_in, tip, X, Fo, uv, face = _snap_setup(0.3)
+    before = X.copy()
+    snapped = _snap(V, F, uv_in, X, Fo, uv, face)
     moved = np.flatnonzero(np.any(X != before, axis=1))
-    assert len(moved) == 1 and pinned[moved[0]] and pinned.sum() == 1
+    assert len(moved) == 1 and snapped[moved[0]] and snapped.sum() == 1
     np.testing.assert_array_equal(X[moved[0]], V[tip])
+    np.testing.assert_array_equal(uv[moved[0]], uv_in[tip])
+    assert face[moved[0]] in np.flatnonzero((F == tip).any(axis=1))
     assert radius_ratio(X, Fo).min() >= 0.3
+
+
+def test_snap_moves_part_of_the_way_up_a_cone_too_high():
+    """A cone so high that a vertex on its tip would leave a face below 0.3: the nearest
+    vertex goes part of the way (a fraction of the disk segment, lifted onto the surface:
+    up the cone), and every face stays above 0.3."""
+    V, F, uv_in, tip, X, Fo, uv, face = _snap_setup(1.0, width=0.3)
+    before = X.copy()
+    snapped = _snap(V, F, uv_in, X, Fo, uv, face)
+    moved = np.flatnonzero(np.any(X != before, axis=1))
+    assert len(moved) >= 1 and np.all(snapped[moved]) and snapped.sum() == len(moved)
+    assert not np.any(np.all(X == V[tip], axis=1))
+    assert np.all((X[moved, 2] > 0) & (X[moved, 2] < 1.0))
+    d_before = np.linalg.norm(before[moved] - V[tip], axis=1)
+    assert np.all(np.linalg.norm(X[moved] - V[tip], axis=1) < d_before)
+    assert radius_ratio(X, Fo).min() >= 0.3
+    # still on the surface: the lifted point of its disk position
+    f, b, _ = locate_points(uv_in, F, uv[moved])
+    np.testing.assert_allclose(X[moved], np.einsum("kc,kcd->kd", b, V[F[f]]), atol=1e-12)
 
 
 def test_min_quality_search_repairs_slivers_on_a_plane():

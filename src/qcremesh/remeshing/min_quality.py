@@ -93,11 +93,13 @@ def _star_scores(X, uv, Fo, VF, verts, Xc, uvc, face, input_normals):
     return np.minimum.reduceat(score, starts, axis=0)
 
 
+# Held vertices (snapped onto the input) move only when their star is below this.
+HELD_BELOW = 0.3
 _STEPS = np.array([0.02, 0.06, 0.15, 0.3, 0.5])
 _DIRECTIONS = 8
 
 
-def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, V, F, disk_uv, vertex_faces, curve, target, rounds):
+def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_uv, vertex_faces, curve, target, rounds):
     """Pattern search that raises the smallest radius ratio of the faces around the
     vertices of the worst faces, in place.
 
@@ -132,6 +134,9 @@ def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, V, F, disk_uv, ver
         Output boundary loop.
     pinned : (k,) bool
         Vertices that stay.
+    held : (k,) bool
+        Vertices that move only when a face around them has a radius ratio below 0.3
+        (those snapped onto the input, which keep the output close to it).
     V : (n, 3) float
     F : (m, 3) int
         The input surface.
@@ -159,7 +164,7 @@ def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, V, F, disk_uv, ver
     qv = np.minimum.reduceat(q[VF.indices], VF.indptr[:-1])
     stuck = np.zeros(k, dtype=bool)
     for _ in range(rounds):
-        active = (qv < target) & ~pinned & ~stuck
+        active = (qv < target) & ~pinned & ~stuck & ~(held & (qv >= HELD_BELOW))
         if not active.any():
             break
         # An independent set: the active vertices whose star is worse than any active

@@ -52,7 +52,7 @@ def relax_on_surface(
     step=0.5,
     pinned=None,
     boundary_scale=None,
-    snap=1.0,
+    snap=0.5,
     min_quality=0.6,
     rounds=300,
 ):
@@ -89,8 +89,9 @@ def relax_on_surface(
     snap : float
         After the sweeps, the input vertices farther than ``snap`` mean output edge
         lengths from the output (the bottoms of pockets the output spans, which the
-        smoothing pulls vertices out of) each get the nearest output vertex moved onto
-        them where that keeps the faces around it valid; 0 skips this.
+        smoothing pulls vertices out of) each pull the nearest output vertex onto them,
+        or part of the way, where that keeps the faces around it valid; the minimum-quality
+        search moves such a vertex again only to mend a face below 0.3. 0 skips this.
     min_quality : float
         Radius ratio below which the stars are optimized (0 skips that stage).
     rounds : int
@@ -163,10 +164,11 @@ def relax_on_surface(
             new_uv[grow], new_X[grow], new_face[grow] = uv[grow], X[grow], face[grow]
             s_new[grow[bnd]] = s[grow[bnd]]
         uv, X, face, s = new_uv, new_X, new_face, s_new
+    snapped = np.zeros(k, dtype=bool)
     if snap > 0:
-        snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, V, F, disk_uv, vertex_faces, snap)
+        snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, snap)
     if min_quality > 0 and rounds > 0:
         raise_min_quality(
-            X, uv, face, s, Fo, A, VF, bnd, pinned, V, F, disk_uv, vertex_faces, curve, min_quality, rounds
+            X, uv, face, s, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, curve, min_quality, rounds
         )
     return uv, X
