@@ -98,6 +98,19 @@ def test_every_method_gives_a_disk(fran, method):
     assert abs(len(r.F) - len(F) // 2) <= 0.05 * len(F) // 2 or method == "uniform"
 
 
+@pytest.mark.parametrize("faces", [120, 400, 2000])
+def test_small_requests_use_fewer_levels(fran, faces):
+    """Two levels above a base mesh of a handful of faces cannot come near a small face
+    count (the output is a multiple of 16 times the base mesh's): fewer levels are used,
+    so the count stays within 5 %, and the levels are a subdivision hierarchy still."""
+    V, F, _ = fran
+    r = remesh(V, F, faces)
+    assert abs(len(r.F) - faces) <= 0.05 * faces
+    assert r.stats["levels"] == {120: 0, 400: 1, 2000: 2}[faces]
+    assert len(r.levels) == r.stats["levels"] + 1 and len(r.levels[0][1]) * 4 ** r.stats["levels"] == len(r.F)
+    check_disk(r.V, r.F)
+
+
 def test_bad_arguments(fran):
     V, F, _ = fran
     with pytest.raises(ValueError, match="unknown method 'magic'; choose one of subdivided, teichmuller, base, uniform"):
@@ -122,10 +135,12 @@ def test_min_quality_including_the_boundary(name):
     included, to a radius ratio of 0.3 and more, at both face counts; relax=0 (the paper's
     pipeline alone) leaves slivers."""
     V, F = read_mesh(DATA / name) if (DATA / name).exists() else read_mesh(shared(name))
+    paper_min = []
     for faces in (len(F), len(F) // 2):
         r = remesh(V, F, faces=faces)
         q = radius_ratio(r.V, r.F)
         assert q.min() >= 0.3 and q.mean() >= 0.97
         check_disk(r.V, r.F)
-    paper = remesh(V, F, relax=0)
-    assert radius_ratio(paper.V, paper.F).min() < 0.3
+        paper = remesh(V, F, faces=faces, relax=0)
+        paper_min.append(radius_ratio(paper.V, paper.F).min())
+    assert min(paper_min) < 0.3

@@ -50,6 +50,11 @@ __all__ = ["METHODS", "RemeshResult", "remesh", "project_to_surface"]
 
 METHODS = ("subdivided", "teichmuller", "base", "uniform")
 
+# Fewest base-mesh faces: below this the face count of the output, a multiple of
+# 4^levels times the base mesh's, cannot come within a few percent of the request, so
+# fewer levels are used.
+MIN_BASE_FACES = 100
+
 # The CVT of the landmarks samples the disk at the parameterization's vertices, subdivided
 # until there are at least this many per landmark.
 CVT_SAMPLES_PER_LANDMARK = 20
@@ -171,7 +176,8 @@ def remesh(
         to within a few percent.
     levels : int
         Subdivision levels above the base mesh (the base mesh has about faces / 4^levels
-        faces).
+        faces). Fewer are used where the base mesh would get under 100 faces (the level
+        used is ``stats["levels"]``).
     method : {"subdivided", "teichmuller", "base", "uniform"}
         The paper's pipeline or one of its ablations (see the module documentation).
         The default is ``"subdivided"``, not the paper's ``"teichmuller"``: measured here,
@@ -218,7 +224,9 @@ def remesh(
         raise ValueError("faces must be at least 4")
     if method == "base":
         levels = 0
-    times, stats = {}, {}
+    while levels > 0 and faces / 4**levels < MIN_BASE_FACES:
+        levels -= 1
+    times, stats = {}, {"levels": levels}
     notify = progress or (lambda stage: None)
 
     def stage(name):
