@@ -94,8 +94,9 @@ def snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, V, F, disk_
     fixed = pinned.copy()
     fixed[bnd] = True
     A_in = adjacency_matrix(F, len(V))
-    # Input vertices within h of an output vertex are within h of the output; the others
-    # are measured, and only they can come closer or drift away as vertices move.
+    # Input vertices within h of an output vertex are within h of the output. Only the
+    # others are measured, in every pass (one near a vertex that moves away is not
+    # measured again: its other neighbours stay).
     candidates = np.flatnonzero(cKDTree(X).query(V, workers=-1)[0] > h)
     dist = np.zeros(len(V))
     for _ in range(passes):
@@ -126,7 +127,6 @@ def snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, V, F, disk_
             return
         fixed[target[moved]] = True
         snapped[target[moved]] = True
-
 
 
 def _move_towards(X, uv, face, Fo, VF, target, far, V, F, disk_uv, vertex_faces):
