@@ -50,8 +50,9 @@ def _snap_setup(height, width=0.0, tip_uv=(0.125, 0.07)):
     return V, F, uv_in, tip, X, Fo, uv, face
 
 
-def _snap(V, F, uv_in, X, Fo, uv, face):
-    pinned, snapped = np.zeros(len(X), dtype=bool), np.zeros(len(X), dtype=bool)
+def _snap(V, F, uv_in, X, Fo, uv, face, snapped=None):
+    pinned = np.zeros(len(X), dtype=bool)
+    snapped = np.zeros(len(X), dtype=bool) if snapped is None else snapped
     A, VF = adjacency_matrix(Fo, len(X)), vertex_face_incidence(Fo, len(X))
     vertex_faces = vertex_face_incidence(F, len(V))
     snap_to_far_points(X, uv, face, Fo, A, VF, boundary_loop(Fo), pinned, snapped, V, F, uv_in, vertex_faces, 1.0)
@@ -71,6 +72,20 @@ def test_snap_moves_the_nearest_vertex_onto_a_tip():
     np.testing.assert_array_equal(uv[moved[0]], uv_in[tip])
     assert face[moved[0]] in np.flatnonzero((F == tip).any(axis=1))
     assert radius_ratio(X, Fo).min() >= 0.3
+
+
+def test_snap_leaves_the_vertices_snapped_before():
+    """A vertex flagged as snapped by an earlier call stays where it is (the tip pulls
+    another vertex, or none)."""
+    V, F, uv_in, tip, X, Fo, uv, face = _snap_setup(0.3)
+    before = X.copy()
+    (mover,) = np.flatnonzero(_snap(V, F, uv_in, X, Fo, uv, face))
+    V, F, uv_in, tip, X, Fo, uv, face = _snap_setup(0.3)
+    earlier = np.zeros(len(X), dtype=bool)
+    earlier[mover] = True
+    snapped = _snap(V, F, uv_in, X, Fo, uv, face, earlier.copy())
+    np.testing.assert_array_equal(X[mover], before[mover])
+    assert snapped[mover] and np.all(np.all(X == before, axis=1) | snapped)
 
 
 def test_snap_moves_part_of_the_way_up_a_cone_too_high():

@@ -16,7 +16,8 @@ where it is, so the disk mesh stays an embedding and the surface mesh its orient
 After the sweeps, input vertices left far from the output (pocket bottoms) pull output
 vertices onto them (:mod:`qcremesh.remeshing.snap`), and a search raises the minimum
 quality around the worst faces, which the sweeps leave where the surface bends sharply or
-the boundary is jagged (:mod:`qcremesh.remeshing.min_quality`).
+the boundary is jagged (:mod:`qcremesh.remeshing.min_quality`); then the snapping once
+more, where the search has mended the faces that stopped it, and a short search.
 """
 
 from __future__ import annotations
@@ -60,9 +61,13 @@ def relax_on_surface(
     regular, without changing its connectivity.
 
     First ``iterations`` sweeps of tangential smoothing (see the module documentation).
-    Then the snapping of :func:`qcremesh.remeshing.snap.snap_to_far_points` and at most
+    Then the snapping of :func:`qcremesh.remeshing.snap.snap_to_far_points`, at most
     ``rounds`` rounds of the search of
-    :func:`qcremesh.remeshing.min_quality.raise_min_quality`.
+    :func:`qcremesh.remeshing.min_quality.raise_min_quality`, and, the faces mended, the
+    snapping again and ``rounds // 6`` more rounds with the snapped vertices fixed
+    (measured: Hausdorff distance on human_face 1.43 -> 0.76 % of the diagonal,
+    human_brain 0.52 / 0.70 -> 0.46 / 0.60 % at its face count / half of it, hand.ply at
+    half 0.33 -> 0.30 %).
 
     Parameters
     ----------
@@ -171,4 +176,13 @@ def relax_on_surface(
         raise_min_quality(
             X, uv, face, s, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, curve, min_quality, rounds
         )
+        if snap > 0:
+            # The search has mended the faces that blocked some moves of the snapping
+            # (a move must leave every face around the vertex above 0.3): snap again, and
+            # polish around, the snapped vertices staying.
+            snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, snap)
+            raise_min_quality(
+                X, uv, face, s, Fo, A, VF, bnd, pinned | snapped, snapped, V, F, disk_uv, vertex_faces, curve,
+                min_quality, max(rounds // 6, 1),
+            )
     return uv, X

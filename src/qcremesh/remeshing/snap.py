@@ -55,7 +55,7 @@ def snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, V, F, disk_
     farthest first, no two neighbours at once). The vertex goes the largest of the
     fractions 1, 1/2, 1/4, 1/8 of the way in the disk (lifted onto the surface) that
     keeps the disk mesh an embedding and its faces above a radius ratio of 0.3; a vertex
-    that moved stays in the later passes and is flagged in ``snapped``.
+    that moved (here or in an earlier call) stays, and is flagged in ``snapped``.
 
     Parameters
     ----------
@@ -76,7 +76,8 @@ def snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, V, F, disk_
     pinned : (k,) bool
         Vertices that stay.
     snapped : (k,) bool
-        Set for the vertices that moved (updated).
+        Vertices snapped by an earlier call, which stay; set for those that move
+        (updated).
     V : (n, 3) float
     F : (m, 3) int
         The input surface.
@@ -91,7 +92,7 @@ def snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, V, F, disk_
     """
     E = edges(Fo)
     h = reach * np.linalg.norm(X[E[:, 0]] - X[E[:, 1]], axis=1).mean()
-    fixed = pinned.copy()
+    fixed = pinned | snapped
     fixed[bnd] = True
     A_in = adjacency_matrix(F, len(V))
     # Input vertices within h of an output vertex are within h of the output. Only the
