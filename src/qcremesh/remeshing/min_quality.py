@@ -97,6 +97,10 @@ def _star_scores(X, uv, Fo, VF, verts, Xc, uvc, face, input_normals):
 HELD_BELOW = 0.3
 _STEPS = np.array([0.02, 0.06, 0.15, 0.3, 0.5])
 _DIRECTIONS = 8
+# Rounds without a rise of the smallest radius ratio after which the search stops
+# (measured on the 7 disk meshes, both face counts: the same meshes as with no limit, and
+# human_face in 1.0 s instead of 1.4 s at half its face count).
+_PATIENCE = 75
 
 
 def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_uv, vertex_faces, curve, target, rounds):
@@ -112,7 +116,8 @@ def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_u
     candidates slide along the input boundary polyline by the same arc lengths, staying
     between their neighbours. Candidates that fold a face in the disk or leave it turned
     over on the surface are rejected. A vertex that found no better position is left
-    alone until a neighbour moves.
+    alone until a neighbour moves. The search stops after ``rounds`` rounds, or 75 rounds
+    after the smallest radius ratio last rose.
 
     Parameters
     ----------
@@ -163,9 +168,10 @@ def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_u
     q = _surface_side(X, Fo, _input_up(Fo, face, input_normals))
     qv = np.minimum.reduceat(q[VF.indices], VF.indptr[:-1])
     stuck = np.zeros(k, dtype=bool)
+    best, since = q.min(), 0
     for _ in range(rounds):
         active = (qv < target) & ~pinned & ~stuck & ~(held & (qv >= HELD_BELOW))
-        if not active.any():
+        if not active.any() or since >= _PATIENCE:
             break
         # An independent set: the active vertices whose star is worse than any active
         # neighbour's (ties by index), so no two moving vertices share a face.
@@ -238,3 +244,5 @@ def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_u
             around = np.unique(Fo[touched])
             star, owner = csr_rows(VF, around)
             qv[around] = np.minimum.reduceat(q[star], np.r_[0, np.cumsum(np.bincount(owner))[:-1]])
+        since = 0 if q.min() > best else since + 1
+        best = max(best, q.min())
