@@ -15,7 +15,7 @@ from ..geometry.locate import interpolate_barycentric
 from ..geometry.quality import radius_ratio
 from .onsurface import closest_point_near, csr_rows, independent_first
 
-__all__ = ["raise_min_quality"]
+__all__ = ["QUALITY_FLOOR", "raise_min_quality"]
 
 
 def _surface_side(X, T, up):
@@ -93,8 +93,9 @@ def _star_scores(X, uv, Fo, VF, verts, Xc, uvc, face, input_normals):
     return np.minimum.reduceat(score, starts, axis=0)
 
 
-# Held vertices (snapped onto the input) move only when their star is below this.
-HELD_BELOW = 0.3
+# The smallest radius ratio the remeshing aims at: the snapping keeps every face it
+# touches above it, and held (snapped) vertices move only to mend a face below it.
+QUALITY_FLOOR = 0.3
 _STEPS = np.array([0.02, 0.06, 0.15, 0.3, 0.5])
 _DIRECTIONS = 8
 # Rounds without a rise of the smallest radius ratio after which the search stops
@@ -170,7 +171,7 @@ def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_u
     stuck = np.zeros(k, dtype=bool)
     best, since = q.min(), 0
     for _ in range(rounds):
-        active = (qv < target) & ~pinned & ~stuck & ~(held & (qv >= HELD_BELOW))
+        active = (qv < target) & ~pinned & ~stuck & ~(held & (qv >= QUALITY_FLOOR))
         if not active.any() or since >= _PATIENCE:
             break
         # An independent set: the active vertices whose star is worse than any active

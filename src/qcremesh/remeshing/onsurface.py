@@ -14,7 +14,7 @@ from ..adaptive.landmarks import boundary_angles, interpolate_on_boundary, smoot
 from ..geometry.distance import point_triangle_distance
 from ..mesh.topology import boundary_loop
 
-__all__ = ["closest_point_near", "BoundaryCurve", "csr_rows", "independent_first"]
+__all__ = ["closest_point_near", "BoundaryCurve", "csr_rows", "independent_first", "nearest_per_owner"]
 
 
 def closest_point_near(P, face, V, F, vertex_faces, rounds=4):
@@ -72,14 +72,21 @@ def closest_point_near(P, face, V, F, vertex_faces, rounds=4):
         cand = indices[starts + offset]
         T = V[F[cand]]
         dist, cp, b = point_triangle_distance(P[active][owner], T[:, 0], T[:, 1], T[:, 2])
-        order = np.lexsort((dist, owner))
-        first = order[np.r_[0, np.flatnonzero(np.diff(owner[order])) + 1]]
+        first = nearest_per_owner(dist, owner)
         new_face = cand[first]
         closest[active], bary[active] = cp[first], b[first]
         changed = new_face != face[active]
         face[active] = new_face
         active = active[changed]
     return face, closest, bary
+
+
+def nearest_per_owner(dist, owner):
+    """For candidates ``dist`` (c,) belonging to ``owner`` (c,) int, the index of the
+    nearest candidate of each owner that has any, in increasing order of owner (ties:
+    the first)."""
+    order = np.lexsort((dist, owner))
+    return order[np.r_[0, np.flatnonzero(np.diff(owner[order])) + 1]]
 
 
 def csr_rows(M, rows):

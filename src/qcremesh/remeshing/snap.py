@@ -22,12 +22,11 @@ from ..geometry.locate import interpolate_barycentric
 from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
 from ..mesh.topology import adjacency_matrix, edges
-from .onsurface import closest_point_near, csr_rows, independent_first
+from .min_quality import QUALITY_FLOOR
+from .onsurface import closest_point_near, csr_rows, independent_first, nearest_per_owner
 
 __all__ = ["snap_to_far_points"]
 
-
-MIN_QUALITY = 0.3
 # Fractions of the way (in the disk) from an output vertex to the input vertex pulling it.
 FRACTIONS = (1.0, 0.5, 0.25, 0.125)
 
@@ -40,8 +39,7 @@ def _distance_to_output(P, X, Fo, VF):
     star, owner = csr_rows(VF, nearest)
     T = X[Fo[star]]
     d = point_triangle_distance(P[owner], T[:, 0], T[:, 1], T[:, 2])[0]
-    order = np.lexsort((d, owner))
-    first = order[np.r_[0, np.flatnonzero(np.diff(owner[order])) + 1]]
+    first = nearest_per_owner(d, owner)
     return d[first], star[first]
 
 
@@ -92,8 +90,6 @@ def snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, V, F, disk_
     """
     E = edges(Fo)
     h = reach * np.linalg.norm(X[E[:, 0]] - X[E[:, 1]], axis=1).mean()
-    fixed = pinned | snapped
-    fixed[bnd] = True
     A_in = adjacency_matrix(F, len(V))
     # Input vertices within h of an output vertex are within h of the output. Only the
     # others are measured, in every pass (one near a vertex that moves away is not
@@ -109,6 +105,8 @@ def snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, V, F, disk_
         nbr_max = np.maximum.reduceat(dist[A_in.indices], A_in.indptr[:-1])
         bottom = dist[candidates] >= nbr_max[candidates]
         far, T = candidates[bottom], Fo[near_face[bottom]]
+        fixed = pinned | snapped
+        fixed[bnd] = True
         dT = np.linalg.norm(X[T] - V[far][:, None], axis=2)
         dT[fixed[T]] = np.inf
         j = np.argmin(dT, axis=1)
@@ -126,7 +124,6 @@ def snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, V, F, disk_
         moved = _move_towards(X, uv, face, Fo, VF, target, far, V, F, disk_uv, vertex_faces)
         if not moved.any():
             return
-        fixed[target[moved]] = True
         snapped[target[moved]] = True
 
 
@@ -154,7 +151,7 @@ def _move_towards(X, uv, face, Fo, VF, target, far, V, F, disk_uv, vertex_faces)
         X[target[todo]], uv[target[todo]], face[target[todo]] = new_X, new_uv, f
         trying = ~moved[owner]
         faces = Fo[star[trying]]
-        ok_face = (signed_doublearea(uv, faces) > 0) & (radius_ratio(X, faces) >= MIN_QUALITY)
+        ok_face = (signed_doublearea(uv, faces) > 0) & (radius_ratio(X, faces) >= QUALITY_FLOOR)
         ok = np.bincount(owner[trying], weights=~ok_face, minlength=len(target)) == 0
         ok[moved] = False
         back = todo[~ok[todo]]
