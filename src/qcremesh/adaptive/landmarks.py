@@ -273,7 +273,8 @@ def cvt_landmarks(
         Stop when no generator moves by more than ``tol`` times the mean spacing.
     overrelaxation : float
         The step omega, in [1, 2); 1 is Lloyd's iteration as printed.
-    seed : int
+    seed : int or sequence of int
+        Seed of the initial draw (anything :func:`numpy.random.default_rng` takes).
 
     Returns
     -------
