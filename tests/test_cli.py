@@ -4,7 +4,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import DATA
+from conftest import DATA, shared
 from qcremesh.cli.main import main
 from qcremesh.mesh.io import read_mesh
 
@@ -67,6 +67,12 @@ def test_remesh_cli_with_report(tmp_path, capsys):
         assert (report / name).is_file()
     page = (report / "report.html").read_text()
     assert 'src="radius_ratio.png"' in page and "q_mean" in page
+
+
+def test_remesh_cli_says_when_landmarks_were_drawn_again(tmp_path, capsys):
+    hand = shared("hand.ply")
+    assert main(["remesh", str(hand), "-o", str(tmp_path / "h.ply"), "--faces", str(len(read_mesh(hand)[1]) // 2)]) == 0
+    assert ", drawn 2 times (the first draws left faces below 0.3)" in capsys.readouterr().out
 
 
 def test_remesh_cli_is_deterministic(tmp_path):

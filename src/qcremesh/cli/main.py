@@ -160,7 +160,12 @@ def _remesh(args, out):
             file=out,
         )
     if "cvt_uniformity" in st:
-        print(f"landmarks: {st['base_vertices']}, surface-area uniformity (std/mean of cells) {st['cvt_uniformity']:.3f}", file=out)
+        drawn = f", drawn {st['draws']} times (the first draws left faces below 0.3)" if st.get("draws", 1) > 1 else ""
+        print(
+            f"landmarks: {st['base_vertices']}, surface-area uniformity (std/mean of cells) {st['cvt_uniformity']:.3f}"
+            f"{drawn}",
+            file=out,
+        )
     if args.report:
         t3 = time.perf_counter()
         from .report import write_remesh_report
