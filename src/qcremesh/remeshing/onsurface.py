@@ -12,17 +12,20 @@ import numpy as np
 
 from ..adaptive.landmarks import boundary_angles, interpolate_on_boundary, smoothed_arc_length
 from ..geometry.distance import point_triangle_distance
+from ..geometry.threads import map_row_chunks
 from ..mesh.topology import boundary_loop
 
 __all__ = ["closest_point_near", "BoundaryCurve", "csr_rows", "independent_first", "nearest_per_owner"]
 
 
-def closest_point_near(P, face, V, F, vertex_faces, rounds=4):
+def closest_point_near(P, face, V, F, vertex_faces, rounds=4, workers=-1):
     """Closest points on a triangle mesh, searched among the faces around a given face.
 
     For each point, the candidates are the faces that share a vertex with its current
     face; the nearest candidate becomes the current face, and the search repeats (at most
-    ``rounds`` times) until the face no longer changes.
+    ``rounds`` times) until the face no longer changes. The points are independent, so
+    large batches are split over ``workers`` threads (-1: every core; see
+    :func:`~qcremesh.geometry.threads.map_row_chunks`), with the same result.
 
     Parameters
     ----------
@@ -34,6 +37,7 @@ def closest_point_near(P, face, V, F, vertex_faces, rounds=4):
     vertex_faces : (n, m) sparse
         Vertex-face incidence.
     rounds : int
+    workers : int
 
     Returns
     -------
@@ -42,8 +46,14 @@ def closest_point_near(P, face, V, F, vertex_faces, rounds=4):
     bary : (k, 3) float
         Barycentric coordinates of the closest point in ``face``.
     """
-    face = np.asarray(face, dtype=np.int64).copy()
-    closest = np.zeros_like(P, dtype=np.float64)
+    P = np.asarray(P, dtype=np.float64)
+    face = np.asarray(face, dtype=np.int64)
+    return map_row_chunks(_closest_point_near, [P, face], [V, F, vertex_faces, rounds], workers)
+
+
+def _closest_point_near(P, face, V, F, vertex_faces, rounds):
+    face = face.copy()
+    closest = np.zeros_like(P)
     bary = np.zeros((len(P), 3))
     indptr, indices = vertex_faces.indptr, vertex_faces.indices
     # Most points stay over their face: accept the projection onto its plane when it
