@@ -2,7 +2,7 @@
 
     python benchmarks/run.py [--data DIR] [--out DIR] [--quick] [--parts ...] [--tools ...]
 
-Four parts, each tool on each mesh in a process of its own (worker.py):
+Five parts, each tool on each mesh in a process of its own (worker.py):
 
 * param: disk parameterizations of every disk mesh (qcremesh's Algorithm 1, Tutte, libigl
   harmonic with arc-length boundary, libigl LSCM), with |mu| of the map disk -> surface,
@@ -13,6 +13,8 @@ Four parts, each tool on each mesh in a process of its own (worker.py):
 * ablation: qcremesh's methods uniform, base, subdivided and teichmuller (the paper's
   Fig. 7 and Figs. 18-20), with and without the relaxation, at the input's face count on
   foot, hand and human_face (the quick meshes in quick mode): what each stage adds.
+* seeds: qcremesh on human_face (fran_cut in quick mode) with the CVT seeds 0-3 at both
+  face counts: how much min q and the Hausdorff distance depend on the draw of landmarks.
 * scaling: qcremesh's parameterization and remesh on one mesh subdivided 0, 1 and 2 times.
 
 Writes results.md, results.json and PNG plots to --out; prints the tables.
@@ -44,6 +46,8 @@ SCALING_LEVELS = [0, 1, 2]
 ABLATION_MESHES = ["foot.off", "hand.ply", "human_face.obj"]
 ABLATION_METHODS = ["uniform", "base", "subdivided", "teichmuller"]
 ABLATION_RELAX = [0, 40]
+SEED_MESHES = ["human_face.obj"]
+SEEDS = [0, 1, 2, 3]
 
 
 def parse_args(argv):
@@ -63,8 +67,8 @@ def parse_args(argv):
     )
     p.add_argument(
         "--parts",
-        default="param,remesh,ablation,scaling",
-        help="comma-separated subset of param,remesh,scaling",
+        default="param,remesh,ablation,seeds,scaling",
+        help="comma-separated subset of param,remesh,ablation,seeds,scaling",
     )
     p.add_argument("--tools", help="comma-separated subset of the tools (default: all)")
     p.add_argument(
@@ -77,6 +81,7 @@ def parse_args(argv):
     )
     p.add_argument("--timeout", type=float, default=600.0, help="per job (s)")
     args = p.parse_args(argv)
+    args.data = args.data.resolve()  # the workers run in benchmarks/
     args.parts = args.parts.split(",")
     args.tools = args.tools.split(",") if args.tools else None
     if args.out is None:
@@ -229,6 +234,31 @@ def ablation_rows(meshes, args):
     return rows
 
 
+def seed_rows(meshes, args):
+    """qcremesh with each of SEEDS at the input's face count and half of it, one run each."""
+    names = QUICK_MESHES[:1] if args.quick else SEED_MESHES
+    rows = []
+    if not selected(["qcremesh"], args):
+        return rows
+    for m in meshes:
+        if m["not_disk"] is not None or m["mesh"] not in names:
+            continue
+        for half in (False, True):
+            for seed in SEEDS:
+                job = {
+                    "kind": "remesh",
+                    "tool": "qcremesh",
+                    "mesh": m["path"],
+                    "name": m["mesh"],
+                    "faces_in": m["faces"],
+                    "half": half,
+                    "faces": m["faces"] // 2 if half else m["faces"],
+                    "variant": {"method": "subdivided", "relax": 40, "seed": seed},
+                }
+                rows.append(run_job(job, args, runs=1))
+    return rows
+
+
 def scaling_rows(path, args):
     """qcremesh on the mesh subdivided 0, 1, 2 times; the remesh at the subdivided face
     count, not measured (the remesh part does that). A tool skipped at level 0 is not
@@ -270,6 +300,8 @@ def main(argv=None):
         results["remesh"] = remesh_rows(meshes, args)
     if "ablation" in args.parts:
         results["ablation"] = ablation_rows(meshes, args)
+    if "seeds" in args.parts:
+        results["seeds"] = seed_rows(meshes, args)
     if "scaling" in args.parts and (args.data / scaling_name).is_file():
         results["scaling"] = scaling_rows(args.data / scaling_name, args)
         results["scaling_fit"] = report.fit_exponents(results["scaling"])

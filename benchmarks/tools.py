@@ -98,19 +98,19 @@ def _qcremesh_remesh(V, F, faces):
     return result.V, result.F, dict(getattr(result, "times", {}))
 
 
-def qcremesh_variant(method, relax):
-    """qcremesh.remesh with one of the paper's ablations (``method``) and ``relax``
-    relaxation sweeps (0: the paper's pipeline alone)."""
+def qcremesh_variant(method, relax, seed=0):
+    """qcremesh.remesh with one of the paper's ablations (``method``), ``relax``
+    relaxation sweeps (0: the paper's pipeline alone) and the CVT ``seed``."""
 
     def run(V, F, faces):
-        result = qcremesh.remesh(V, F, faces=faces, seed=0, method=method, relax=relax)
-        return result.V, result.F, dict(result.times)
+        result = qcremesh.remesh(V, F, faces=faces, seed=seed, method=method, relax=relax)
+        return result.V, result.F, dict(result.times, draws=result.stats.get("draws", 1))
 
     return Remesher(
         run,
         lambda V, F, faces: faces,
         False,
-        f"remesh(V, F, faces=N, method={method!r}, relax={relax}, seed=0)",
+        f"remesh(V, F, faces=N, method={method!r}, relax={relax}, seed={seed})",
     )
 
 

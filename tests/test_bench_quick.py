@@ -48,3 +48,29 @@ def test_quick_parameterization_benchmark(tmp_path):
     assert "## Machine" in markdown and "| fran_cut.ply | 4,224 | qcremesh |" in markdown
     assert proc.stdout == markdown + "\n"
     assert (tmp_path / "time_vs_faces.png").stat().st_size > 0
+
+
+def test_quick_seed_benchmark(tmp_path):
+    """The seeds part: qcremesh with the CVT seeds 0-3 on fran_cut at both face counts,
+    with the number of landmark draws each run needed."""
+    command = [
+        sys.executable,
+        str(ROOT / "benchmarks" / "run.py"),
+        "--quick",
+        "--data",
+        str(DATA),
+        "--out",
+        str(tmp_path),
+        "--parts",
+        "seeds",
+        "--tools",
+        "qcremesh",
+    ]
+    proc = subprocess.run(command, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    rows = json.loads((tmp_path / "results.json").read_text())["seeds"]
+    assert [(r["half"], r["variant"]["seed"]) for r in rows] == [(h, s) for h in (False, True) for s in range(4)]
+    for r in rows:
+        assert r["status"] == "ok" and r["stages"]["draws"] >= 1
+        assert r["quality"]["q_min"] >= 0.3
+    assert "## Seeds" in (tmp_path / "results.md").read_text()
