@@ -15,7 +15,7 @@ import numpy as np
 __all__ = ["available_cores", "map_row_chunks"]
 
 # Fewest rows per chunk: below this the threads' overhead outweighs the gain.
-MIN_CHUNK_ROWS = 8192
+MIN_CHUNK_ROWS = 4096
 
 _pool = None
 
@@ -48,7 +48,7 @@ def map_row_chunks(func, rows, shared=(), workers=-1):
         Arguments passed whole to every chunk.
     workers : int
         Number of threads; -1 for every available core. Fewer are used where a chunk
-        would get under 8192 rows.
+        would get under 4096 rows.
 
     Returns
     -------
