@@ -1,14 +1,13 @@
 """Unit tests of the relaxation stages on planar surfaces, where the answers are known."""
 
 import numpy as np
-import scipy.sparse as sp
 
 from conftest import grid_disk
 from qcremesh.adaptive.basemesh import delaunay_disk_mesh, hexagonal_disk_points
 from qcremesh.geometry.locate import locate_points
 from qcremesh.geometry.quality import radius_ratio
 from qcremesh.mesh.topology import adjacency_matrix, boundary_loop, vertex_face_incidence
-from qcremesh.remeshing.onsurface import closest_point_near, greedy_independent, independent_first
+from qcremesh.remeshing.onsurface import closest_point_near
 from qcremesh.remeshing.relax import relax_on_surface
 from qcremesh.remeshing.snap import snap_to_far_points
 
@@ -122,25 +121,3 @@ def test_min_quality_search_repairs_slivers_on_a_plane():
     q = radius_ratio(new_X, Fo)
     assert q.min() >= 0.6
     np.testing.assert_allclose(new_X[inner, :2], new_uv[inner], atol=1e-12)
-
-
-def test_greedy_independent_set_on_a_path():
-    """On the path 0-1-...-9 taken in the order 1, 2, ..., 9, 0, greedy selection keeps
-    1, 3, 5, 7, 9 (0 is next to 1); the local-minimum rule keeps only 1, the only vertex
-    with no neighbour earlier in the order."""
-    i = np.arange(9)
-    A = sp.coo_matrix((np.ones(18), (np.r_[i, i + 1], np.r_[i + 1, i])), shape=(10, 10)).tocsr()
-    order = np.r_[1:10, 0]
-    assert order[greedy_independent(A, order)].tolist() == [1, 3, 5, 7, 9]
-    assert order[independent_first(A, order)].tolist() == [1]
-
-
-def test_greedy_independent_set_is_maximal_on_a_mesh():
-    uv, F = delaunay_disk_mesh(2 * np.pi * np.arange(24) / 24, hexagonal_disk_points(0.2))
-    A = adjacency_matrix(F, len(uv))
-    order = np.random.default_rng(0).permutation(len(uv))
-    keep = order[greedy_independent(A, order)]
-    chosen = np.zeros(len(uv), dtype=bool)
-    chosen[keep] = True
-    assert A[keep][:, keep].nnz == 0  # independent
-    assert (chosen | (A @ chosen > 0)).all()  # maximal: every vertex is chosen or next to one

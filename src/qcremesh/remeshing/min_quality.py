@@ -13,7 +13,7 @@ import numpy as np
 
 from ..geometry.locate import interpolate_barycentric
 from ..geometry.quality import radius_ratio
-from .onsurface import closest_point_near, csr_rows, greedy_independent
+from .onsurface import closest_point_near, csr_rows, independent_first
 
 __all__ = ["QUALITY_FLOOR", "raise_min_quality"]
 
@@ -113,13 +113,8 @@ def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_u
     vertices of the worst faces, in place.
 
     Each round takes the vertices whose star (faces around them) has a radius ratio below
-    ``target``, keeps an independent set of them (greedily, the worst star first: on
-    hand.ply 3x as many vertices a round as keeping only the vertices whose star is worse
-    than every such neighbour's, 112 rounds instead of 300; on the 7 disk meshes at both
-    face counts the min q moves by at most 0.02, up on head_neck_cut, fran_cut and hand
-    at full count, down on hand at half (0.362 -> 0.353) and human_brain (0.306 / 0.391 ->
-    0.304 / 0.387), and the mean q by at most 2e-4), and moves each to the best of a
-    pattern of candidate
+    ``target``, keeps an independent set of them (a vertex whose star is worse than that
+    of every such neighbour), and moves each to the best of a pattern of candidate
     positions if it raises the smallest radius ratio of its star. Interior candidates are
     offsets of 0.02 to 0.5 times the vertex's mean edge length in 8 directions of its
     tangent plane, snapped onto the surface near the current position; boundary
@@ -183,11 +178,11 @@ def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_u
         active = (qv < target) & ~pinned & ~stuck & ~(held & (qv >= QUALITY_FLOOR))
         if not active.any() or since >= _PATIENCE:
             break
-        # An independent set, greedily from the worst star (ties by index), so no two
-        # moving vertices share a face.
+        # An independent set: the active vertices whose star is worse than any active
+        # neighbour's (ties by index), so no two moving vertices share a face.
         act = np.flatnonzero(active)
         act = act[np.lexsort((act, qv[act]))]
-        sel = np.sort(act[greedy_independent(A, act)])
+        sel = np.sort(act[independent_first(A, act)])
         ring, owner = csr_rows(A, sel)
         reach = np.zeros(k)
         reach[sel] = np.bincount(owner, np.linalg.norm(X[ring] - X[sel[owner]], axis=1)) / np.bincount(owner)

@@ -15,14 +15,7 @@ from ..geometry.distance import point_triangle_distance
 from ..geometry.threads import map_row_chunks
 from ..mesh.topology import boundary_loop
 
-__all__ = [
-    "closest_point_near",
-    "BoundaryCurve",
-    "csr_rows",
-    "greedy_independent",
-    "independent_first",
-    "nearest_per_owner",
-]
+__all__ = ["closest_point_near", "BoundaryCurve", "csr_rows", "independent_first", "nearest_per_owner"]
 
 
 def closest_point_near(P, face, V, F, vertex_faces, rounds=4, workers=-1):
@@ -138,37 +131,6 @@ def independent_first(A, verts):
     lowest = np.full(len(verts), len(verts))
     np.minimum.at(lowest, owner, rank[ring])
     return lowest > np.arange(len(verts))
-
-
-def greedy_independent(A, verts):
-    """The independent set that greedy selection in the order of ``verts`` keeps: each
-    vertex is kept unless a neighbour earlier in ``verts`` was kept.
-
-    Computed in passes: the vertices with no remaining neighbour earlier in the order
-    are kept, they and their neighbours leave, and the rest goes again. A superset of
-    :func:`independent_first`, as large as a greedy maximal independent set gets.
-
-    Parameters
-    ----------
-    A : (k, k) CSR
-        Vertex adjacency of the mesh.
-    verts : (p,) int
-        Distinct vertices, first the most urgent.
-
-    Returns
-    -------
-    (p,) bool
-    """
-    keep = np.zeros(len(verts), dtype=bool)
-    left = np.arange(len(verts))
-    while len(left):
-        first = independent_first(A, verts[left])
-        keep[left[first]] = True
-        gone = np.zeros(A.shape[0], dtype=bool)
-        gone[verts[left[first]]] = True
-        gone[csr_rows(A, verts[left[first]])[0]] = True
-        left = left[~gone[verts[left]]]
-    return keep
 
 
 class BoundaryCurve:
