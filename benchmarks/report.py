@@ -290,6 +290,17 @@ def _remesh_section(results):
 # Ablations ----------------------------------------------------------------------------
 
 
+def _variant_table(rows, header, head, cells):
+    """Markdown table of qcremesh variant runs: the cells ``head(r)`` then ``cells(r,
+    quality)`` per row, or the reason the run failed."""
+    table = []
+    for r in rows:
+        first = head(r)
+        rest = cells(r, r["quality"]) if r["status"] == "ok" else _not_ok(r, len(header) - len(first))
+        table.append(first + rest)
+    return _table(header, table)
+
+
 def _ablation_section(results):
     rows = results["ablation"]
     out = [
@@ -302,16 +313,12 @@ def _ablation_section(results):
     ]
     header = ["mesh", "method", "relax", "faces", "time s", "q mean", "q min", "q 1%", "q>0.9",
               "Hausdorff %", "mean dist %"]
-    table = []
-    for r in rows:
-        head = [r["name"], r["variant"]["method"], r["variant"]["relax"]]
-        if r["status"] != "ok":
-            table.append(head + _not_ok(r, len(header) - 3))
-            continue
-        q = r["quality"]
-        table.append(
-            head
-            + [
+    out.append(
+        _variant_table(
+            rows,
+            header,
+            lambda r: [r["name"], r["variant"]["method"], r["variant"]["relax"]],
+            lambda r, q: [
                 f"{q['faces']:,}",
                 _num(r["time"]["median"]),
                 f"{q['q_mean']:.3f}",
@@ -320,9 +327,9 @@ def _ablation_section(results):
                 f"{q['q_frac_above_0_9']:.3f}",
                 _pct(q["hausdorff"]),
                 _pct(q["mean_distance"]),
-            ]
+            ],
         )
-    out.append(_table(header, table))
+    )
     out += _ablation_ordering(rows)
     return out
 
@@ -361,25 +368,20 @@ def _seeds_section(results):
         "face to 0.3 or more, at most 3).\n",
     ]
     header = ["mesh", "faces wanted", "seed", "draws", "time s", "q mean", "q min", "q 1%", "Hausdorff %"]
-    table = []
-    for r in rows:
-        head = [r["name"], f"{r['faces']:,}", r["variant"]["seed"]]
-        if r["status"] != "ok":
-            table.append(head + _not_ok(r, len(header) - 3))
-            continue
-        q = r["quality"]
-        table.append(
-            head
-            + [
-                f"{r['stages']['draws']:.0f}",
-                _num(r["time"]["median"]),
-                f"{q['q_mean']:.3f}",
-                f"{q['q_min']:.3f}",
-                f"{q['q_p01']:.3f}",
-                _pct(q["hausdorff"]),
-            ]
-        )
-    return out + [_table(header, table), ""]
+    table = _variant_table(
+        rows,
+        header,
+        lambda r: [r["name"], f"{r['faces']:,}", r["variant"]["seed"]],
+        lambda r, q: [
+            f"{r['stages']['draws']:.0f}",
+            _num(r["time"]["median"]),
+            f"{q['q_mean']:.3f}",
+            f"{q['q_min']:.3f}",
+            f"{q['q_p01']:.3f}",
+            _pct(q["hausdorff"]),
+        ],
+    )
+    return out + [table, ""]
 
 
 # Scaling ------------------------------------------------------------------------------

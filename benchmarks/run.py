@@ -186,6 +186,22 @@ def parameterization_jobs(meshes, args):
                 }
 
 
+def remesh_job(m, tool, half, variant=None):
+    """The job of remeshing mesh ``m`` with ``tool`` to its face count, or half of it."""
+    job = {
+        "kind": "remesh",
+        "tool": tool,
+        "mesh": m["path"],
+        "name": m["mesh"],
+        "faces_in": m["faces"],
+        "half": half,
+        "faces": m["faces"] // 2 if half else m["faces"],
+    }
+    if variant is not None:
+        job["variant"] = variant
+    return job
+
+
 def remesh_rows(meshes, args):
     """Every remesher on every mesh at its face count and at half; qcremesh remeshes disks
     only, so the other meshes get a skipped row with the reason instead of a job."""
@@ -193,15 +209,7 @@ def remesh_rows(meshes, args):
     for m in meshes:
         for half in (False, True):
             for tool in selected(REMESH_TOOLS, args):
-                job = {
-                    "kind": "remesh",
-                    "tool": tool,
-                    "mesh": m["path"],
-                    "name": m["mesh"],
-                    "faces_in": m["faces"],
-                    "half": half,
-                    "faces": m["faces"] // 2 if half else m["faces"],
-                }
+                job = remesh_job(m, tool, half)
                 if tool == "qcremesh" and m["not_disk"] is not None:
                     rows.append(dict(job, status="skipped", reason=f"not a disk: {m['not_disk']}"))
                 else:
@@ -209,55 +217,32 @@ def remesh_rows(meshes, args):
     return rows
 
 
-def ablation_rows(meshes, args):
-    """qcremesh's ablations with and without the relaxation, at the input's face count;
-    one timed run each (the quality is the point)."""
-    names = QUICK_MESHES if args.quick else ABLATION_MESHES
-    rows = []
+def variant_rows(meshes, names, half, variants, args):
+    """qcremesh with each of ``variants`` (keyword arguments of remesh) on the disk meshes
+    among ``names``, one timed run each (the quality is the point)."""
     if not selected(["qcremesh"], args):
-        return rows
-    for m in meshes:
-        if m["not_disk"] is not None or m["mesh"] not in names:
-            continue
-        for relax in ABLATION_RELAX:
-            for method in ABLATION_METHODS:
-                job = {
-                    "kind": "remesh",
-                    "tool": "qcremesh",
-                    "mesh": m["path"],
-                    "name": m["mesh"],
-                    "faces_in": m["faces"],
-                    "half": False,
-                    "faces": m["faces"],
-                    "variant": {"method": method, "relax": relax},
-                }
-                rows.append(run_job(job, args, runs=1))
-    return rows
+        return []
+    return [
+        run_job(remesh_job(m, "qcremesh", half, variant), args, runs=1)
+        for m in meshes
+        if m["not_disk"] is None and m["mesh"] in names
+        for variant in variants
+    ]
+
+
+def ablation_rows(meshes, args):
+    """qcremesh's ablations with and without the relaxation, at the input's face count."""
+    names = QUICK_MESHES if args.quick else ABLATION_MESHES
+    variants = [{"method": method, "relax": relax} for relax in ABLATION_RELAX for method in ABLATION_METHODS]
+    return variant_rows(meshes, names, False, variants, args)
 
 
 def seed_rows(meshes, args):
     """qcremesh with each of SEEDS at half the input's face count (where the Hausdorff
-    distance on human_face spreads most), one run each."""
+    distance on human_face spreads most)."""
     names = QUICK_MESHES[:1] if args.quick else SEED_MESHES
-    rows = []
-    if not selected(["qcremesh"], args):
-        return rows
-    for m in meshes:
-        if m["not_disk"] is not None or m["mesh"] not in names:
-            continue
-        for seed in SEEDS:
-            job = {
-                "kind": "remesh",
-                "tool": "qcremesh",
-                "mesh": m["path"],
-                "name": m["mesh"],
-                "faces_in": m["faces"],
-                "half": True,
-                "faces": m["faces"] // 2,
-                "variant": {"method": "subdivided", "relax": 40, "seed": seed},
-            }
-            rows.append(run_job(job, args, runs=1))
-    return rows
+    variants = [{"method": "subdivided", "relax": 40, "seed": seed} for seed in SEEDS]
+    return variant_rows(meshes, names, True, variants, args)
 
 
 def scaling_rows(path, args):

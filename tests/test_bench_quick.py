@@ -12,24 +12,18 @@ import sys
 from conftest import DATA, ROOT
 
 
-def test_quick_parameterization_benchmark(tmp_path):
-    command = [
-        sys.executable,
-        str(ROOT / "benchmarks" / "run.py"),
-        "--quick",
-        "--data",
-        str(DATA),
-        "--out",
-        str(tmp_path),
-        "--parts",
-        "param",
-        "--tools",
-        "qcremesh,tutte",
-    ]
+def run_quick(out, parts, tools):
+    """benchmarks/run.py --quick on the bundled meshes: its results.json, and what it
+    printed."""
+    command = [sys.executable, str(ROOT / "benchmarks" / "run.py"), "--quick", "--data", str(DATA)]
+    command += ["--out", str(out), "--parts", parts, "--tools", tools]
     proc = subprocess.run(command, capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
+    return json.loads((out / "results.json").read_text()), proc.stdout
 
-    results = json.loads((tmp_path / "results.json").read_text())
+
+def test_quick_parameterization_benchmark(tmp_path):
+    results, stdout = run_quick(tmp_path, "param", "qcremesh,tutte")
     rows = {r["tool"]: r for r in results["param"]}
     assert set(rows) == {"qcremesh", "tutte"}
     for r in rows.values():
@@ -46,29 +40,14 @@ def test_quick_parameterization_benchmark(tmp_path):
 
     markdown = (tmp_path / "results.md").read_text()
     assert "## Machine" in markdown and "| fran_cut.ply | 4,224 | qcremesh |" in markdown
-    assert proc.stdout == markdown + "\n"
+    assert stdout == markdown + "\n"
     assert (tmp_path / "time_vs_faces.png").stat().st_size > 0
 
 
 def test_quick_seed_benchmark(tmp_path):
     """The seeds part: qcremesh with the CVT seeds 0-3 on fran_cut at half its face
     count, with the number of landmark draws each run needed."""
-    command = [
-        sys.executable,
-        str(ROOT / "benchmarks" / "run.py"),
-        "--quick",
-        "--data",
-        str(DATA),
-        "--out",
-        str(tmp_path),
-        "--parts",
-        "seeds",
-        "--tools",
-        "qcremesh",
-    ]
-    proc = subprocess.run(command, capture_output=True, text=True, timeout=120)
-    assert proc.returncode == 0, proc.stderr
-    rows = json.loads((tmp_path / "results.json").read_text())["seeds"]
+    rows = run_quick(tmp_path, "seeds", "qcremesh")[0]["seeds"]
     assert [(r["half"], r["variant"]["seed"]) for r in rows] == [(True, s) for s in range(4)]
     for r in rows:
         assert r["status"] == "ok" and r["stages"]["draws"] >= 1
