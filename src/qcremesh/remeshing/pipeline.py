@@ -258,29 +258,36 @@ def remesh(
     bnd = dm.boundary
     nb, ni, boundary_spacing = _plan(V, F, bnd, faces, levels)
 
+    # What the landmarks of every draw share: the boundary landmarks, and the samples of
+    # the disk with their surface area and density for the CVT.
+    stage("landmarks")
+    if method == "uniform":
+        spacing = np.sqrt(4 * np.pi / (np.sqrt(3) * max(faces / 4**levels, 4.0)))
+        nbu = max(int(round(2 * np.pi / spacing)), 3)
+        theta = 2 * np.pi * np.arange(nbu) / nbu
+        corner = np.zeros(nbu, dtype=bool)
+    else:
+        theta, corner = boundary_landmarks(V, dm.uv, bnd, nb, corner_angle)
+        stats["boundary_corners"] = int(corner.sum())
+        samples_uv, samples_V, samples_F = dm.uv, V, F
+        while len(samples_uv) < CVT_SAMPLES_PER_LANDMARK * (ni + nb):
+            samples_V, _ = upsample(samples_V, samples_F, 1)
+            samples_uv, samples_F = upsample(samples_uv, samples_F, 1)
+        rho = vertex_density(samples_uv, samples_F, samples_V)
+        surface_area = np.bincount(
+            samples_F.ravel(), weights=np.repeat(doublearea(samples_V, samples_F) / 6, 3), minlength=len(samples_uv)
+        )
+        circle = np.column_stack([np.cos(theta), np.sin(theta)])
+    done("landmarks")
+
     def adaptive_mesh(cvt_seed):
-        """Landmarks to the relaxed output for one draw of the CVT's initial landmarks:
+        """The interior landmarks of one draw (``cvt_seed``) to the relaxed output:
         (disk positions, faces, hierarchy, surface positions or None, mu, stats)."""
         run = {}
         stage("landmarks")
         if method == "uniform":
-            spacing = np.sqrt(4 * np.pi / (np.sqrt(3) * max(faces / 4**levels, 4.0)))
-            nbu = max(int(round(2 * np.pi / spacing)), 3)
-            theta = 2 * np.pi * np.arange(nbu) / nbu
             interior = hexagonal_disk_points(spacing)
-            corner = np.zeros(nbu, dtype=bool)
         else:
-            theta, corner = boundary_landmarks(V, dm.uv, bnd, nb, corner_angle)
-            run["boundary_corners"] = int(corner.sum())
-            samples_uv, samples_V, samples_F = dm.uv, V, F
-            while len(samples_uv) < CVT_SAMPLES_PER_LANDMARK * (ni + nb):
-                samples_V, _ = upsample(samples_V, samples_F, 1)
-                samples_uv, samples_F = upsample(samples_uv, samples_F, 1)
-            rho = vertex_density(samples_uv, samples_F, samples_V)
-            surface_area = np.bincount(
-                samples_F.ravel(), weights=np.repeat(doublearea(samples_V, samples_F) / 6, 3), minlength=len(samples_uv)
-            )
-            circle = np.column_stack([np.cos(theta), np.sin(theta)])
             cvt = cvt_landmarks(
                 samples_uv, surface_area, circle, ni, weight=rho * surface_area, iterations=cvt_iterations,
                 seed=cvt_seed,
