@@ -356,10 +356,10 @@ def remesh(
         return uv, Fo, hierarchy, Vo, mu, run
 
     # The smallest radius ratio after the relaxation depends chaotically on the landmarks
-    # (measured over 6 seeds on hand.ply, human_brain.ply and human_face.obj: below
-    # QUALITY_FLOOR in 1 of 6 draws, at a narrow boundary notch or the bottom of a pocket).
-    # Below it, the landmarks are drawn again, up to ``retries`` times, and the best
-    # draw is kept.
+    # (measured with seeds 0-5 on hand.ply at both face counts, human_brain.ply and
+    # human_face.obj at half: below QUALITY_FLOOR in 3 of 24 draws, each at a narrow notch
+    # of a scan border). Below it, the landmarks are drawn again, up to ``retries`` times,
+    # and the best draw is kept.
     draws = 1 + (retries if relax > 0 and method != "uniform" else 0)
     best = None
     for draw in range(draws):
