@@ -2,10 +2,12 @@
 with projection back onto the surface).
 
 1. Conformal parameterization onto the unit disk (Algorithm 1, :mod:`qcremesh.param.disk`).
-2. Density: the area distortion rho of the parameterization (Eq. 14).
+2. Density: the area distortion rho of the parameterization (Eq. 14), which the landmarks
+   follow by spreading the surface area itself.
 3. Landmarks: boundary points spaced uniformly by surface arc length (sharp boundary
-   corners included) and interior points from a CVT of the disk with density rho^2, so that
-   their images are uniform on the surface (see :mod:`qcremesh.adaptive.landmarks`).
+   corners included) and interior points from a CVT of the disk whose cells are taken on
+   the surface, so that their images are uniform on the surface (see
+   :mod:`qcremesh.adaptive.landmarks`).
 4. Base mesh: the Delaunay triangulation of the landmarks.
 5. Subdivision: ``levels`` times 1-to-4, new boundary vertices on the circle.
 6. Teichmueller map: the landmark-matching Teichmueller map of the subdivided mesh, by
@@ -31,7 +33,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..adaptive.basemesh import delaunay_disk_mesh, hexagonal_disk_points, subdivide_disk_mesh
-from ..adaptive.density import vertex_density
 from ..adaptive.landmarks import (
     boundary_angles,
     boundary_landmarks,
@@ -273,11 +274,11 @@ def remesh(
         while len(samples_uv) < CVT_SAMPLES_PER_LANDMARK * (ni + nb):
             samples_V, _ = upsample(samples_V, samples_F, 1)
             samples_uv, samples_F = upsample(samples_uv, samples_F, 1)
-        rho = vertex_density(samples_uv, samples_F, samples_V)
         surface_area = np.bincount(
             samples_F.ravel(), weights=np.repeat(doublearea(samples_V, samples_F) / 6, 3), minlength=len(samples_uv)
         )
         circle = np.column_stack([np.cos(theta), np.sin(theta)])
+        circle_V = interpolate_on_boundary(boundary_angles(dm.uv, bnd), V[bnd], theta)
     done("landmarks")
 
     def adaptive_mesh(cvt_seed):
@@ -289,8 +290,8 @@ def remesh(
             interior = hexagonal_disk_points(spacing)
         else:
             cvt = cvt_landmarks(
-                samples_uv, surface_area, circle, ni, weight=rho * surface_area, iterations=cvt_iterations,
-                seed=cvt_seed,
+                samples_uv, surface_area, circle, ni, positions=samples_V, fixed_positions=circle_V,
+                iterations=cvt_iterations, seed=cvt_seed,
             )
             interior = cvt.points
             run.update(cvt_iterations=cvt.iterations, cvt_uniformity=cvt.uniformity)
@@ -355,11 +356,13 @@ def remesh(
             done("relax")
         return uv, Fo, hierarchy, Vo, mu, run
 
-    # The smallest radius ratio after the relaxation depends chaotically on the landmarks
-    # (measured with seeds 0-5 on hand.ply at both face counts, human_brain.ply and
-    # human_face.obj at half: below QUALITY_FLOOR in 3 of 24 draws, each at a narrow notch
-    # of a scan border). Below it, the landmarks are drawn again, up to ``retries`` times,
-    # and the best draw is kept.
+    # The smallest radius ratio after the relaxation depends chaotically on the landmarks.
+    # With landmarks from disk cells it was below QUALITY_FLOOR in 3 of 24 draws (seeds 0-5
+    # on hand.ply at both face counts, human_brain.ply and human_face.obj at half), each at
+    # a narrow notch of a scan border; with surface cells, in none of 38 draws (seeds 0-9 of
+    # human_face.obj at half, 0-5 at full and on fran_cut, venus and foot at half, 0-3 of
+    # hand.ply at half). camel_b.obj, cut along zero-width slits, never reaches it. Below it,
+    # the landmarks are drawn again, up to ``retries`` times, and the best draw is kept.
     draws = 1 + (retries if relax > 0 and method != "uniform" else 0)
     best = None
     for draw in range(draws):
