@@ -418,8 +418,10 @@ def cvt_landmarks(
     # crowded as such: where the density is high (a pocket of the surface that the
     # disk map compresses) they are the right spacing.
     owner = owners(points)
-    points = points[np.bincount(owner, weights=weight, minlength=nfix + count)[nfix:] > 0]
-    count = len(points)
-    owner = owners(points)
+    filled = np.bincount(owner, weights=weight, minlength=nfix + count)[nfix:] > 0
+    if not filled.all():
+        points = points[filled]
+        count = len(points)
+        owner = owners(points)
     cell = np.bincount(owner, weights=mass, minlength=nfix + count)[nfix:]
     return CVTResult(points, done, cell, float(cell.std() / cell.mean()) if count else 0.0)
