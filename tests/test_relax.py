@@ -50,13 +50,16 @@ def _snap_setup(height, width=0.0, tip_uv=(0.125, 0.07)):
     return V, F, uv_in, tip, X, Fo, uv, face
 
 
-def _snap(V, F, uv_in, X, Fo, uv, face, snapped=None):
+def _snap(V, F, uv_in, X, Fo, uv, face, snapped=None, partial=None, passes=4):
     pinned = np.zeros(len(X), dtype=bool)
     snapped = np.zeros(len(X), dtype=bool) if snapped is None else snapped
+    partial = np.zeros(len(X), dtype=bool) if partial is None else partial
     A, VF = adjacency_matrix(Fo, len(X)), vertex_face_incidence(Fo, len(X))
     vertex_faces = vertex_face_incidence(F, len(V))
-    snap_to_far_points(X, uv, face, Fo, A, VF, boundary_loop(Fo), pinned, snapped, V, F, uv_in, vertex_faces, 1.0)
-    assert not pinned.any()
+    snap_to_far_points(
+        X, uv, face, Fo, A, VF, boundary_loop(Fo), pinned, snapped, partial, V, F, uv_in, vertex_faces, 1.0, passes
+    )
+    assert not pinned.any() and not np.any(partial & ~snapped)
     return snapped
 
 
@@ -65,9 +68,10 @@ def test_snap_moves_the_nearest_vertex_onto_a_tip():
     and is flagged; the others stay."""
     V, F, uv_in, tip, X, Fo, uv, face = _snap_setup(0.3)
     before = X.copy()
-    snapped = _snap(V, F, uv_in, X, Fo, uv, face)
+    partial = np.zeros(len(X), dtype=bool)
+    snapped = _snap(V, F, uv_in, X, Fo, uv, face, partial=partial)
     moved = np.flatnonzero(np.any(X != before, axis=1))
-    assert len(moved) == 1 and snapped[moved[0]] and snapped.sum() == 1
+    assert len(moved) == 1 and snapped[moved[0]] and snapped.sum() == 1 and not partial.any()
     np.testing.assert_array_equal(X[moved[0]], V[tip])
     np.testing.assert_array_equal(uv[moved[0]], uv_in[tip])
     assert face[moved[0]] in np.flatnonzero((F == tip).any(axis=1))
@@ -94,9 +98,11 @@ def test_snap_moves_part_of_the_way_up_a_cone_too_high():
     up the cone), and every face stays above 0.3."""
     V, F, uv_in, tip, X, Fo, uv, face = _snap_setup(1.0, width=0.3)
     before = X.copy()
-    snapped = _snap(V, F, uv_in, X, Fo, uv, face)
+    partial = np.zeros(len(X), dtype=bool)
+    snapped = _snap(V, F, uv_in, X, Fo, uv, face, partial=partial)
     moved = np.flatnonzero(np.any(X != before, axis=1))
     assert len(moved) >= 1 and np.all(snapped[moved]) and snapped.sum() == len(moved)
+    assert np.all(partial[moved])
     assert not np.any(np.all(X == V[tip], axis=1))
     assert np.all((X[moved, 2] > 0) & (X[moved, 2] < 1.0))
     d_before = np.linalg.norm(before[moved] - V[tip], axis=1)
@@ -105,6 +111,27 @@ def test_snap_moves_part_of_the_way_up_a_cone_too_high():
     # still on the surface: the lifted point of its disk position
     f, b, _ = locate_points(uv_in, F, uv[moved])
     np.testing.assert_allclose(X[moved], np.einsum("kc,kcd->kd", b, V[F[f]]), atol=1e-12)
+
+
+def test_snap_moves_a_vertex_again_that_went_part_of_the_way():
+    """The flags of an earlier call: a vertex that went part of the way up the cone may be
+    pulled again (put back where it started, it goes up again), one that went all the way
+    stays."""
+    V, F, uv_in, tip, X, Fo, uv, face = _snap_setup(1.0, width=0.3)
+    start = X.copy(), uv.copy(), face.copy()
+    partial = np.zeros(len(X), dtype=bool)
+    snapped = _snap(V, F, uv_in, X, Fo, uv, face, partial=partial)
+    (mover,) = np.flatnonzero(partial)
+    after = X.copy(), uv.copy(), face.copy()
+    for whole in (False, True):
+        X, uv, face = (a.copy() for a in after)
+        X[mover], uv[mover], face[mover] = (a[mover] for a in start)
+        _snap(V, F, uv_in, X, Fo, uv, face, snapped.copy(), partial & (not whole))
+        if whole:
+            np.testing.assert_array_equal(X[mover], start[0][mover])
+        else:
+            assert np.linalg.norm(X[mover] - V[tip]) < np.linalg.norm(start[0][mover] - V[tip])
+            assert radius_ratio(X, Fo).min() >= 0.3
 
 
 def test_min_quality_search_repairs_slivers_on_a_plane():

@@ -171,9 +171,9 @@ def relax_on_surface(
             new_uv[grow], new_X[grow], new_face[grow] = uv[grow], X[grow], face[grow]
             s_new[grow[bnd]] = s[grow[bnd]]
         uv, X, face, s = new_uv, new_X, new_face, s_new
-    snapped = np.zeros(k, dtype=bool)
+    snapped, partial = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
     if snap > 0:
-        snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, snap)
+        snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, disk_uv, vertex_faces, snap)
     if min_quality > 0 and rounds > 0:
         raise_min_quality(
             X, uv, face, s, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, curve, min_quality, rounds
@@ -182,7 +182,7 @@ def relax_on_surface(
             # The search has mended the faces that blocked some moves of the snapping
             # (a move must leave every face around the vertex above 0.3): snap again, and
             # polish around, the snapped vertices staying.
-            snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, snap)
+            snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, disk_uv, vertex_faces, snap)
             raise_min_quality(
                 X, uv, face, s, Fo, A, VF, bnd, pinned | snapped, snapped, V, F, disk_uv, vertex_faces, curve,
                 min_quality, max(rounds // 12, 1),
