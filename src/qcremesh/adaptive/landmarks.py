@@ -236,7 +236,9 @@ def _nearest_in_space(positions, candidates, generator_positions):
     return (candidates[np.arange(len(candidates)), d.argmin(1)],)
 
 
-def voronoi_owner(samples, generators, positions=None, generator_positions=None, candidates=SURFACE_CELL_CANDIDATES):
+def voronoi_owner(
+    samples, generators, positions=None, generator_positions=None, candidates=SURFACE_CELL_CANDIDATES
+):
     """Cell of every sample: the index of its generator in a Voronoi diagram of the disk
     or, given positions on the surface, of the surface.
 

@@ -5,17 +5,18 @@ closed eyelids) that a disk map compresses, so the output spans them. The input 
 left far from the output then pull the nearest free output vertex onto them, or as far
 towards them as keeps its faces valid, over a few passes so that a pocket is followed
 down one vertex at a time; a vertex that went only part of the way goes on in the later
-passes and calls, as far as its faces then allow. Measured with a reach of half an edge against one pass that
-moved vertices all the way or not at all, from one edge length (Hausdorff distance in % of
-the diagonal at the input face count / half of it): head_neck_cut 0.32 / 0.43 -> 0.24 /
-0.34, human_face 1.45 / 1.48 -> 1.43 / 0.86, human_brain 0.67 / 0.97 -> 0.52 / 0.70,
-venus 3.20 / 3.29 -> 2.20 / 2.99; minimum radius ratio human_face 0.25 / 0.40 -> 0.37 /
-0.35, human_brain 0.58 / 0.60 -> 0.49 / 0.39. Letting the vertices that went part of the
-way go on (against freezing them there), human_face at seeds 0-3: 0.72 / 0.61 / 0.38 /
-0.90 % -> 0.38 / 0.61 / 0.37 / 0.60 % at its face count, 0.67 / 0.84 / 0.72 / 1.03 % ->
-0.69 / 0.62 / 0.48 / 0.79 % at half of it; human_brain 0.55 / 0.70 -> 0.44 / 0.56 %;
-the other disk meshes, mean q and the smallest radius ratio where it matters (all at
-least 0.31) as they were.
+passes and calls, as far as its faces then allow.
+
+Measured with a reach of half an edge against one pass that moved vertices all the way or
+not at all, from one edge length (Hausdorff distance in % of the diagonal at the input
+face count / half of it): head_neck_cut 0.32 / 0.43 -> 0.24 / 0.34, human_face 1.45 /
+1.48 -> 1.43 / 0.86, human_brain 0.67 / 0.97 -> 0.52 / 0.70, venus 3.20 / 3.29 -> 2.20 /
+2.99; minimum radius ratio human_face 0.25 / 0.40 -> 0.37 / 0.35, human_brain 0.58 / 0.60
+-> 0.49 / 0.39. Letting the vertices that went part of the way go on, against freezing
+them there: human_face at seeds 0-3, 0.72 / 0.61 / 0.38 / 0.90 % -> 0.38 / 0.61 / 0.37 /
+0.60 % at its face count, 0.67 / 0.84 / 0.72 / 1.03 % -> 0.69 / 0.62 / 0.48 / 0.79 % at
+half of it (smallest radius ratio at least 0.31); human_brain 0.55 / 0.70 -> 0.44 / 0.56
+%; on the five other disk meshes the radius ratios and distances the same.
 """
 
 from __future__ import annotations
