@@ -267,7 +267,8 @@ def voronoi_owner(
     """
     tree = cKDTree(generators)
     nearest_in_disk = tree.query(samples, workers=-1)[1]
-    if positions is None:
+    k = min(candidates, len(generators))
+    if positions is None or k == 1:
         return nearest_in_disk
     positions = np.asarray(positions, dtype=np.float64)
     generator_positions = np.asarray(generator_positions, dtype=np.float64)
@@ -275,12 +276,9 @@ def voronoi_owner(
     # Where the nearest in space is the nearest in the disk, it is among the candidates;
     # elsewhere (near the cells' borders, a few samples) the candidates are searched.
     differ = np.flatnonzero(owner != nearest_in_disk)
-    k = min(candidates, len(generators))
-    if len(differ) and k > 1:
+    if len(differ):
         _, near = tree.query(samples[differ], k=k, workers=-1)
         owner[differ] = map_row_chunks(_nearest_in_space, [positions[differ], near], [generator_positions])[0]
-    elif len(differ):
-        owner[differ] = nearest_in_disk[differ]
     return owner
 
 

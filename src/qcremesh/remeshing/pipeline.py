@@ -260,7 +260,7 @@ def remesh(
     nb, ni, boundary_spacing = _plan(V, F, bnd, faces, levels)
 
     # What the landmarks of every draw share: the boundary landmarks, and the samples of
-    # the disk with their surface area and density for the CVT.
+    # the disk with their points and areas on the surface for the CVT.
     stage("landmarks")
     if method == "uniform":
         spacing = np.sqrt(4 * np.pi / (np.sqrt(3) * max(faces / 4**levels, 4.0)))
@@ -368,7 +368,8 @@ def remesh(
     best = None
     for draw in range(draws):
         candidate = adaptive_mesh(seed if draw == 0 else [seed, draw])
-        q_min = radius_ratio(candidate[3], candidate[1]).min() if candidate[3] is not None else 1.0
+        _, Fo, _, Vo, _, _ = candidate
+        q_min = radius_ratio(Vo, Fo).min() if Vo is not None else 1.0
         if best is None or q_min > best[0]:
             best = (q_min, candidate)
         if q_min >= QUALITY_FLOOR:
