@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from qcremesh.geometry.linsolve import solver_backend
+from qcremesh.remeshing.compiled import AVAILABLE as COMPILED
 
 PACKAGES = [
     "qcremesh",
@@ -20,6 +21,7 @@ PACKAGES = [
     "scipy",
     "meshio",
     "pypardiso",
+    "numba",
     "libigl",
     "pymeshlab",
     "pyacvd",
@@ -73,6 +75,7 @@ def machine():
         "python": platform.python_version(),
         "packages": packages,
         "sparse_solver": solver_backend(),
+        "closest_point_search": "compiled (Numba)" if COMPILED else "NumPy",
         "git": commit + (" with uncommitted changes" if _git("status", "--porcelain") else ""),
         "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
         "load_average_start": os.getloadavg()[0],
@@ -570,7 +573,8 @@ def markdown(results):
         f"{results['total_s']:.0f} s in all.\n",
         "## Machine\n",
         f"- CPU: {m['cpu']}, {m['cores']} cores ({m['usable_cores']} usable), {m['ram_gb']} GB RAM",
-        f"- {m['os']}, Python {m['python']}, sparse solver of qcremesh: {m['sparse_solver']}",
+        f"- {m['os']}, Python {m['python']}, sparse solver of qcremesh: {m['sparse_solver']}, "
+        f"closest-point search of qcremesh: {m['closest_point_search']}",
         f"- qcremesh at git {m['git'] or 'unknown'}",
         f"- load average (1 min) {m['load_average_start']:.1f} at the start, "
         f"{m['load_average_end']:.1f} at the end "

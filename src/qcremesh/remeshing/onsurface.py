@@ -14,6 +14,8 @@ from ..adaptive.landmarks import boundary_angles, interpolate_on_boundary, smoot
 from ..geometry.distance import point_triangle_distance
 from ..geometry.threads import map_row_chunks
 from ..mesh.topology import boundary_loop
+from .compiled import AVAILABLE as COMPILED
+from .compiled import closest_point_near_kernel
 
 __all__ = ["closest_point_near", "BoundaryCurve", "csr_rows", "independent_first", "nearest_per_owner"]
 
@@ -25,7 +27,9 @@ def closest_point_near(P, face, V, F, vertex_faces, rounds=4, workers=-1):
     face; the nearest candidate becomes the current face, and the search repeats (at most
     ``rounds`` times) until the face no longer changes. The points are independent, so
     large batches are split over ``workers`` threads (-1: every core; see
-    :func:`~qcremesh.geometry.threads.map_row_chunks`), with the same result.
+    :func:`~qcremesh.geometry.threads.map_row_chunks`), with the same result. With Numba
+    installed the search runs compiled (:mod:`qcremesh.remeshing.compiled`), with the
+    same result again.
 
     Parameters
     ----------
@@ -48,7 +52,8 @@ def closest_point_near(P, face, V, F, vertex_faces, rounds=4, workers=-1):
     """
     P = np.asarray(P, dtype=np.float64)
     face = np.asarray(face, dtype=np.int64)
-    return map_row_chunks(_closest_point_near, [P, face], [V, F, vertex_faces, rounds], workers)
+    search = closest_point_near_kernel() if COMPILED else _closest_point_near
+    return map_row_chunks(search, [P, face], [V, F, vertex_faces, rounds], workers)
 
 
 def _closest_point_near(P, face, V, F, vertex_faces, rounds):
