@@ -8,6 +8,7 @@ from qcremesh.geometry.locate import locate_points
 from qcremesh.geometry.quality import radius_ratio
 from qcremesh.mesh.topology import adjacency_matrix, boundary_loop, vertex_face_incidence
 from qcremesh.remeshing.onsurface import closest_point_near
+from qcremesh.remeshing import relax
 from qcremesh.remeshing.relax import relax_on_surface
 from qcremesh.remeshing.snap import snap_to_far_points
 
@@ -148,3 +149,20 @@ def test_min_quality_search_repairs_slivers_on_a_plane():
     q = radius_ratio(new_X, Fo)
     assert q.min() >= 0.6
     np.testing.assert_allclose(new_X[inner, :2], new_uv[inner], atol=1e-12)
+
+
+def test_faces_left_below_the_floor_get_their_rings_smoothed_together(monkeypatch):
+    """Where the minimum-quality search ends with faces below 0.3 (here cut short at 2
+    rounds on a badly jittered mesh of a plane), the rings around them are smoothed
+    together and the search goes on: the smallest radius ratio gets above 0.3, where it
+    stays below without that stage."""
+    V, F, uv_in = flat_disk(0.04)
+    X, Fo, uv = flat_disk(0.2)
+    inner = np.setdiff1d(np.arange(len(uv)), boundary_loop(Fo))
+    uv = uv.copy()
+    uv[inner] += np.random.default_rng(2).uniform(-0.09, 0.09, (len(inner), 2))
+    _, new_X = relax_on_surface(uv_in, F, V, uv, Fo, iterations=0, snap=0, rounds=2)
+    assert radius_ratio(new_X, Fo).min() >= 0.3
+    monkeypatch.setattr(relax, "UNJAM_SWEEPS", 0)
+    _, new_X = relax_on_surface(uv_in, F, V, uv, Fo, iterations=0, snap=0, rounds=2)
+    assert radius_ratio(new_X, Fo).min() < 0.3

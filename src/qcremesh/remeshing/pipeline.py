@@ -361,9 +361,11 @@ def remesh(
     # on hand.ply at both face counts, human_brain.ply and human_face.obj at half), each at
     # a narrow notch of a scan border; with surface cells, in none of 38 draws (seeds 0-9 of
     # human_face.obj at half its face count, 0-5 at its face count, 0-5 of fran_cut, venus
-    # and foot and 0-3 of hand.ply at half; the lowest 0.310). camel_b.obj, cut along
-    # zero-width slits, never reaches it. Below it, the landmarks are drawn again, up to
-    # ``retries`` times, and the best draw is kept.
+    # and foot and 0-3 of hand.ply at half; the lowest 0.310); hand.ply subdivided once
+    # was (0.293, at a boundary corner) until the relaxation learnt to smooth the rings
+    # around such faces together. camel_b.obj, cut along zero-width slits, never reaches
+    # it. Below it, the landmarks are drawn again, up to ``retries`` times, and the best
+    # draw is kept.
     draws = 1 + (retries if relax > 0 and method != "uniform" else 0)
     best = None
     for draw in range(draws):
