@@ -30,6 +30,8 @@ _compiled = False
 
 
 def _closest_point_near(P, face, V, F, indptr, indices, rounds):
+    """The search of qcremesh.remeshing.onsurface._closest_point_near point by point, with
+    the vertex-face incidence as its CSR arrays."""
     k = P.shape[0]
     face = face.copy()
     closest = np.zeros((k, 3))
@@ -143,12 +145,15 @@ def closest_point_near_kernel():
 
 
 def _search(P, face, V, F, vertex_faces, rounds):
+    """The compiled search on arrays it can take without a copy where they already are
+    (the incidence's index arrays keep their integer type: Numba compiles one version
+    per type)."""
     return _closest_point_near(
         np.ascontiguousarray(P, dtype=np.float64),
         np.ascontiguousarray(face, dtype=np.int64),
         np.ascontiguousarray(V, dtype=np.float64),
         np.ascontiguousarray(F, dtype=np.int64),
-        vertex_faces.indptr.astype(np.int64, copy=False),
-        vertex_faces.indices.astype(np.int64, copy=False),
+        vertex_faces.indptr,
+        vertex_faces.indices,
         int(rounds),
     )
