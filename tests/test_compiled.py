@@ -1,12 +1,14 @@
 """The compiled closest-point search (Numba, extra "fast") against the NumPy one."""
 
+import sys
+
 import numpy as np
 import pytest
 
 from conftest import DATA
 from qcremesh import read_mesh, remesh
 from qcremesh.mesh.topology import vertex_face_incidence
-from qcremesh.remeshing import onsurface
+from qcremesh.remeshing import compiled, onsurface
 from qcremesh.remeshing.compiled import closest_point_near_kernel
 
 pytest.importorskip("numba")
@@ -39,3 +41,19 @@ def test_remesh_is_the_same_with_and_without_the_compiled_search(monkeypatch):
     plain = remesh(V, F, faces=3000)
     assert compiled.V.tobytes() == plain.V.tobytes()
     assert compiled.F.tobytes() == plain.F.tobytes()
+
+
+def test_a_numba_that_cannot_be_imported_leaves_the_numpy_search(monkeypatch):
+    """Numba installed but failing to import (built for another NumPy, say): no compiled
+    search, and closest_point_near gives the NumPy search's results."""
+    V, F = read_mesh(DATA / "human_face.obj")
+    vertex_faces = vertex_face_incidence(F, len(V))
+    start = np.arange(0, len(F), 7)
+    P = V[F[start]].mean(1) + 0.3 * (V[F[start, 1]] - V[F[start, 0]])
+    monkeypatch.setattr(compiled, "_state", None)
+    monkeypatch.setitem(sys.modules, "numba", None)
+    assert compiled.closest_point_near_kernel() is None
+    got = onsurface.closest_point_near(P, start, V, F, vertex_faces)
+    expected = onsurface._closest_point_near(P, start, V, F, vertex_faces, 4)
+    for e, g in zip(expected, got):
+        np.testing.assert_array_equal(g, e)

@@ -26,7 +26,7 @@ __all__ = ["AVAILABLE", "closest_point_near_kernel"]
 # Numba is the optional extra "fast"; it is imported, and the functions compiled (or
 # loaded from its cache), at the first search, not with qcremesh (0.3 s).
 AVAILABLE = find_spec("numba") is not None
-_compiled = False
+_state = None  # None: not tried yet; True: compiled; False: Numba failed to import
 
 
 def _closest_point_near(P, face, V, F, indptr, indices, rounds):
@@ -128,20 +128,24 @@ def _point_triangle(p0, p1, p2, V, a, b, c):
 def closest_point_near_kernel():
     """The compiled search, ``search(P, face, V, F, vertex_faces, rounds) -> (face,
     closest, bary)`` on one chunk of points, as
-    :func:`~qcremesh.remeshing.onsurface.closest_point_near`. Needs Numba
-    (:data:`AVAILABLE`). The functions are compiled (or loaded from Numba's cache) at the
-    first search; Numba compiles under a lock, so threads may make it."""
-    global _compiled, _dot, _cross, _edge, _point_triangle, _closest_point_near
-    if not _compiled:
-        import numba
-
-        # error_model="numpy": a degenerate face divides by zero into inf or nan, as in
-        # NumPy. Numba resolves the callees when it compiles, at the first call.
-        jit = numba.njit(cache=True, nogil=True, error_model="numpy")
-        _dot, _cross, _edge, _point_triangle = jit(_dot), jit(_cross), jit(_edge), jit(_point_triangle)
-        _closest_point_near = jit(_closest_point_near)
-        _compiled = True
-    return _search
+    :func:`~qcremesh.remeshing.onsurface.closest_point_near`; None where Numba, though
+    installed, cannot be imported (built for another NumPy, say), and the NumPy search is
+    to be used. The functions are compiled (or loaded from Numba's cache) at the first
+    search; Numba compiles under a lock, so threads may make it."""
+    global _state, _dot, _cross, _edge, _point_triangle, _closest_point_near
+    if _state is None:
+        try:
+            import numba
+        except ImportError:
+            _state = False
+        else:
+            # error_model="numpy": a degenerate face divides by zero into inf or nan, as
+            # in NumPy. Numba resolves the callees when it compiles, at the first call.
+            jit = numba.njit(cache=True, nogil=True, error_model="numpy")
+            _dot, _cross, _edge, _point_triangle = jit(_dot), jit(_cross), jit(_edge), jit(_point_triangle)
+            _closest_point_near = jit(_closest_point_near)
+            _state = True
+    return _search if _state else None
 
 
 def _search(P, face, V, F, vertex_faces, rounds):

@@ -52,7 +52,7 @@ def closest_point_near(P, face, V, F, vertex_faces, rounds=4, workers=-1):
     """
     P = np.asarray(P, dtype=np.float64)
     face = np.asarray(face, dtype=np.int64)
-    search = closest_point_near_kernel() if COMPILED else _closest_point_near
+    search = (closest_point_near_kernel() if COMPILED else None) or _closest_point_near
     return map_row_chunks(search, [P, face], [V, F, vertex_faces, rounds], workers)
 
 
