@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from qcremesh.geometry.linsolve import solver_backend
-from qcremesh.remeshing.compiled import AVAILABLE as COMPILED
+from qcremesh.remeshing.compiled import closest_point_near_kernel
 
 PACKAGES = [
     "qcremesh",
@@ -75,7 +75,7 @@ def machine():
         "python": platform.python_version(),
         "packages": packages,
         "sparse_solver": solver_backend(),
-        "closest_point_search": "compiled (Numba)" if COMPILED else "NumPy",
+        "closest_point_search": "compiled (Numba)" if closest_point_near_kernel() else "NumPy",
         "git": commit + (" with uncommitted changes" if _git("status", "--porcelain") else ""),
         "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
         "load_average_start": os.getloadavg()[0],

@@ -36,16 +36,16 @@ def test_remesh_is_the_same_with_and_without_the_compiled_search(monkeypatch):
     """The whole remeshing (relaxation, snapping, minimum-quality search) gives the same
     output bytes on either path."""
     V, F = read_mesh(DATA / "human_face.obj")
-    compiled = remesh(V, F, faces=3000)
-    monkeypatch.setattr(onsurface, "COMPILED", False)
+    fast = remesh(V, F, faces=3000)
+    monkeypatch.setattr(compiled, "_state", False)
     plain = remesh(V, F, faces=3000)
-    assert compiled.V.tobytes() == plain.V.tobytes()
-    assert compiled.F.tobytes() == plain.F.tobytes()
+    assert fast.V.tobytes() == plain.V.tobytes()
+    assert fast.F.tobytes() == plain.F.tobytes()
 
 
 def test_a_numba_that_cannot_be_imported_leaves_the_numpy_search(monkeypatch):
-    """Numba installed but failing to import (built for another NumPy, say): no compiled
-    search, and closest_point_near gives the NumPy search's results."""
+    """Numba failing to import (built for another NumPy, say): no compiled search, and
+    closest_point_near gives the NumPy search's results."""
     V, F = read_mesh(DATA / "human_face.obj")
     vertex_faces = vertex_face_incidence(F, len(V))
     start = np.arange(0, len(F), 7)

@@ -17,16 +17,13 @@ and 3.2 s instead of 5.0 s (against remesh_botsch's 1.4-1.7 s and 3.5-4.7 s run 
 
 from __future__ import annotations
 
-from importlib.util import find_spec
-
 import numpy as np
 
-__all__ = ["AVAILABLE", "closest_point_near_kernel"]
+__all__ = ["closest_point_near_kernel"]
 
 # Numba is the optional extra "fast"; it is imported, and the functions compiled (or
 # loaded from its cache), at the first search, not with qcremesh (0.3 s).
-AVAILABLE = find_spec("numba") is not None
-_state = None  # None: not tried yet; True: compiled; False: Numba failed to import
+_state = None  # None: not tried yet; True: compiled; False: Numba cannot be imported
 
 
 def _closest_point_near(P, face, V, F, indptr, indices, rounds):
@@ -128,9 +125,9 @@ def _point_triangle(p0, p1, p2, V, a, b, c):
 def closest_point_near_kernel():
     """The compiled search, ``search(P, face, V, F, vertex_faces, rounds) -> (face,
     closest, bary)`` on one chunk of points, as
-    :func:`~qcremesh.remeshing.onsurface.closest_point_near`; None where Numba, though
-    installed, cannot be imported (built for another NumPy, say), and the NumPy search is
-    to be used. The functions are compiled (or loaded from Numba's cache) at the first
+    :func:`~qcremesh.remeshing.onsurface.closest_point_near`; None where Numba cannot be
+    imported (not installed, or built for another NumPy), and the NumPy search is to be
+    used. The functions are compiled (or loaded from Numba's cache) at the first
     search; Numba compiles under a lock, so threads may make it."""
     global _state, _dot, _cross, _edge, _point_triangle, _closest_point_near
     if _state is None:

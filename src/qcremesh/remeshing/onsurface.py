@@ -14,7 +14,6 @@ from ..adaptive.landmarks import boundary_angles, interpolate_on_boundary, smoot
 from ..geometry.distance import point_triangle_distance
 from ..geometry.threads import map_row_chunks
 from ..mesh.topology import boundary_loop
-from .compiled import AVAILABLE as COMPILED
 from .compiled import closest_point_near_kernel
 
 __all__ = ["closest_point_near", "BoundaryCurve", "csr_rows", "independent_first", "nearest_per_owner"]
@@ -52,7 +51,7 @@ def closest_point_near(P, face, V, F, vertex_faces, rounds=4, workers=-1):
     """
     P = np.asarray(P, dtype=np.float64)
     face = np.asarray(face, dtype=np.int64)
-    search = (closest_point_near_kernel() if COMPILED else None) or _closest_point_near
+    search = closest_point_near_kernel() or _closest_point_near
     return map_row_chunks(search, [P, face], [V, F, vertex_faces, rounds], workers)
 
 
