@@ -390,15 +390,14 @@ def cvt_landmarks(
         positions = np.asarray(positions, dtype=np.float64)
         fixed_positions = np.asarray(fixed_positions, dtype=np.float64).reshape(nfix, positions.shape[1])
         sample_tree = cKDTree(samples)
-        generator_positions = positions
+        positions_in_input_order = positions  # as sample_tree numbers the samples
         # The samples in the tree's order, so that neighbouring queries of the cells are
-        # neighbours in memory: each iteration's nearest-neighbour searches take a quarter
-        # less time than in the order of the mesh.
+        # neighbours in memory (landmark stage on hand.ply 1.12 -> 1.03 s).
         order = sample_tree.indices
         samples, mass, weight, positions = samples[order], mass[order], weight[order], positions[order]
 
         def owners(points):
-            at = generator_positions[sample_tree.query(points)[1]] if len(points) else positions[:0]
+            at = positions_in_input_order[sample_tree.query(points)[1]] if len(points) else positions[:0]
             return voronoi_owner(
                 samples, np.concatenate([fixed, points]), positions, np.concatenate([fixed_positions, at])
             )
