@@ -267,8 +267,9 @@ def _remesh_section(results):
         "of valence 6, Hausdorff and mean distance to the input in % of its bounding-box "
         "diagonal, the Hausdorff distance between the boundaries (n/a when only one of the two "
         "meshes has a boundary), manifoldness and boundary loops of the output. Tools that take "
-        "an edge length are calibrated to the face count (the run with the final length is the "
-        "first timed run).\n",
+        "an edge length are calibrated to the face count, starting from the length of the "
+        "previous run where there is one (the run with the final length is the first timed "
+        "run).\n",
     ]
     for label, half in (
         ("at the input's face count", False),

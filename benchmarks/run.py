@@ -202,14 +202,34 @@ def remesh_job(m, tool, half, variant=None):
     return job
 
 
+def previous_lengths(out):
+    """The calibrated edge lengths of the last run written to ``out``, by (tool, mesh,
+    input faces, wanted faces): where the mesh and the tool are the same, the calibration
+    starts there and usually ends with its first run (the worker checks the face count
+    anyway). Empty when there is no readable earlier run."""
+    try:
+        rows = json.loads((out / "results.json").read_text()).get("remesh", [])
+    except (OSError, ValueError):
+        return {}
+    return {
+        (r["tool"], r["name"], r["faces_in"], r["faces"]): r["param"]
+        for r in rows
+        if r.get("status") == "ok" and r.get("calibration_runs")
+    }
+
+
 def remesh_rows(meshes, args):
     """Every remesher on every mesh at its face count and at half; qcremesh remeshes disks
     only, so the other meshes get a skipped row with the reason instead of a job."""
     rows = []
+    lengths = previous_lengths(args.out)
     for m in meshes:
         for half in (False, True):
             for tool in selected(REMESH_TOOLS, args):
                 job = remesh_job(m, tool, half)
+                start = lengths.get((tool, m["mesh"], m["faces"], job["faces"]))
+                if start is not None:
+                    job["start"] = start
                 if tool == "qcremesh" and m["not_disk"] is not None:
                     rows.append(dict(job, status="skipped", reason=f"not a disk: {m['not_disk']}"))
                 else:

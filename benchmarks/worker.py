@@ -6,7 +6,8 @@
 A remesh job with ``"variant": {"method": ..., "relax": ...}`` runs that ablation of
 qcremesh (``tools.qcremesh_variant``).
 
-Remesh only: ``faces`` defaults to the face count of the (subdivided) input, and with
+Remesh only: ``"start"`` is a first edge length for the tools calibrated by length;
+``faces`` defaults to the face count of the (subdivided) input, and with
 ``"measure": false`` the output is not measured (time and memory only). Loading
 and subdividing the mesh are not timed. The tool runs up to ``runs`` times, fewer when
 the runs so far add up to ``budget`` seconds, at least once; the wall time of each call
@@ -116,8 +117,9 @@ def run_parameterization(job, V, F):
 
 
 def run_remesher(job, V, F):
-    """Remesh to ``job["faces"]`` faces. A tool that takes an edge length is run with the length
-    of equilateral triangles of that count, then corrected by sqrt(faces / wanted) until
+    """Remesh to ``job["faces"]`` faces. A tool that takes an edge length is run with
+    ``job["start"]`` (the length calibrated in the previous run) or else the length of
+    equilateral triangles of that count, then corrected by sqrt(faces / wanted) until
     within FACE_TOLERANCE; the run with the final length is the first timed run."""
     if "variant" in job:
         tool = tools.qcremesh_variant(**job["variant"])
@@ -131,7 +133,7 @@ def run_remesher(job, V, F):
         stages.append(out[2])
         return out
 
-    param = tool.initial(V, F, wanted)
+    param = job.get("start") or tool.initial(V, F, wanted)
     calibration = 0
     while True:
         stages.clear()

@@ -53,3 +53,24 @@ def test_quick_seed_benchmark(tmp_path):
         assert r["status"] == "ok" and r["stages"]["draws"] >= 1
         assert r["quality"]["q_min"] >= 0.3
     assert "## Seeds" in (tmp_path / "results.md").read_text()
+
+
+def test_calibration_starts_from_previous_run(tmp_path):
+    """The edge lengths calibrated in the last run are the next run's first guesses, per
+    tool, mesh and face count; rows that failed or were not calibrated give none."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    try:
+        import run
+    finally:
+        sys.path.pop(0)
+    assert run.previous_lengths(tmp_path) == {}
+    (tmp_path / "results.json").write_text("{not json")
+    assert run.previous_lengths(tmp_path) == {}
+    base = {"name": "foot.off", "faces_in": 19974, "faces": 9987}
+    rows = [
+        dict(base, tool="pymeshlab", status="ok", calibration_runs=2, param=1.25),
+        dict(base, tool="botsch", status="failed"),
+        dict(base, tool="qcremesh", status="ok", calibration_runs=0, param=9987),
+    ]
+    (tmp_path / "results.json").write_text(json.dumps({"remesh": rows}))
+    assert run.previous_lengths(tmp_path) == {("pymeshlab", "foot.off", 19974, 9987): 1.25}
