@@ -1,6 +1,6 @@
 import numpy as np
 import pytest
-from scipy.spatial import cKDTree
+from scipy.spatial import Delaunay, cKDTree
 
 from conftest import DATA
 from qcremesh.adaptive.basemesh import delaunay_disk_mesh, hexagonal_disk_points, subdivide_disk_mesh
@@ -181,4 +181,20 @@ def test_delaunay_disk_mesh_leaves_out_points_at_the_boundary():
     np.testing.assert_allclose(uv[8:], inside)
     (loop,) = boundary_loops(F)
     assert sorted(loop) == list(range(8))
+    assert np.all(signed_doublearea(uv, F) > 0)
+
+
+def test_delaunay_disk_mesh_keeps_crowded_boundary_points():
+    """Boundary points 1e-8 apart in angle (the end of a long strip in its disk map) are
+    closer than Qhull's precision, which leaves them out of its triangulation: they are
+    put back, so every landmark on the circle is a boundary vertex and no face folds."""
+    gap = 1e-8
+    theta = np.r_[0.0, gap, 2 * gap, 3 * gap, np.linspace(1.0, 6.0, 20)]
+    interior = np.array([[0.0, 0.0], [0.3, 0.1], [-0.2, 0.4], [0.9, 0.0]])
+    uv = np.concatenate([np.column_stack([np.cos(theta), np.sin(theta)]), interior])
+    assert len(np.unique(Delaunay(uv).simplices)) < len(uv)  # what Qhull alone does
+    uv, F = delaunay_disk_mesh(theta, interior)
+    assert len(uv) == len(theta) + len(interior) and len(np.unique(F)) == len(uv)
+    (loop,) = boundary_loops(F)
+    assert sorted(loop) == list(range(len(theta))) and euler_characteristic(F) == 1
     assert np.all(signed_doublearea(uv, F) > 0)

@@ -52,7 +52,38 @@ def delaunay_disk_mesh(theta, interior, margin=0.2):
     F = Delaunay(uv).simplices.astype(np.int64)
     cw = signed_doublearea(uv, F) < 0
     F[cw] = F[cw][:, ::-1]
-    return uv, F
+    return _include_every_point(uv, F, len(theta))
+
+
+def _include_every_point(uv, F, b):
+    """Qhull leaves out points it cannot tell apart from a neighbour or from the line of
+    two neighbours at its precision: boundary points less than about 1e-7 apart in angle
+    (where the disk map crowds the boundary, at the end of a long strip). A boundary
+    point left out is put back into the triangle on the chord that skips it (split into
+    a fan from that triangle's third corner); an interior point left out is dropped."""
+    used = np.zeros(len(uv), dtype=bool)
+    used[F.ravel()] = True
+    if used.all():
+        return uv, F
+    on_hull = np.flatnonzero(used[:b])
+    following = np.roll(on_hull, -1)
+    gap = np.mod(following - on_hull, b) > 1
+    first, last = on_hull[gap], following[gap]
+    # The triangle on each chord (first, last): the one with that directed edge.
+    n = len(uv)
+    keys = (F * n + np.roll(F, -1, axis=1)).ravel()
+    face = np.repeat(np.arange(len(F)), 3)[np.argsort(keys)][np.searchsorted(np.sort(keys), first * n + last)]
+    corner = np.argmax(F[face] == first[:, None], axis=1)
+    apex = F[face, (corner + 2) % 3]
+    fans = []
+    for p, q, k in zip(first, last, apex):
+        chain = np.r_[p, np.arange(p + 1, q if q > p else q + b) % b, q]
+        fans.append(np.column_stack([chain[:-1], chain[1:], np.full(len(chain) - 1, k)]))
+    F = np.concatenate([np.delete(F, face, axis=0)] + fans)
+    kept = np.flatnonzero(used | (np.arange(n) < b))
+    renumber = np.full(n, -1)
+    renumber[kept] = np.arange(len(kept))
+    return uv[kept], renumber[F]
 
 
 def subdivide_disk_mesh(uv, F, levels):
