@@ -43,3 +43,18 @@ def grid_disk(k=8, jitter=0.0, seed=0):
     cw = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0] < 0
     F[cw] = F[cw][:, ::-1]
     return uv, F
+
+
+def strip_disk(length, k=10, seed=0):
+    """A strip [0, length] x [0, 1] of k x (k length) jittered grid cells, two triangles
+    each, bent along its length (z = 0.3 sin x): a disk whose conformal map to the unit
+    disk crowds both ends by about exp(-pi length / 2)."""
+    n = int(round(k * length))
+    x, y = np.meshgrid(np.linspace(0.0, length, n + 1), np.linspace(0.0, 1.0, k + 1))
+    P = np.column_stack([x.ravel(), y.ravel()])
+    inside = (P > 0).all(1) & (P[:, 0] < length) & (P[:, 1] < 1)
+    P[inside] += 0.3 / k * np.random.default_rng(seed).uniform(-1, 1, (inside.sum(), 2))
+    i, j = np.meshgrid(np.arange(n), np.arange(k))
+    a = (j * (n + 1) + i).ravel()
+    F = np.concatenate([np.column_stack([a, a + 1, a + n + 2]), np.column_stack([a, a + n + 2, a + n + 1])])
+    return np.column_stack([P, 0.3 * np.sin(P[:, 0])]), F

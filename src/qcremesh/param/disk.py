@@ -60,6 +60,10 @@ from .tutte import tutte_embedding
 
 __all__ = ["DiskMap", "disk_conformal_map", "harmonic_measure", "mobius_normalize"]
 
+# Narrowest arc of the circle a boundary vertex of the disk map gets (radians): Qhull's
+# Delaunay triangulation of landmarks on the circle loses points closer than about 1e-7.
+MIN_BOUNDARY_ARC = 1e-6
+
 
 @dataclass
 class DiskMap:
@@ -236,9 +240,19 @@ def mobius_normalize(z, center, anchor):
 
 def _boundary_angles(omega):
     """Angles of the boundary vertices from their harmonic measures: the middle of each
-    vertex's arc, the first vertex at 0. Non-positive measures (possible next to obtuse
-    triangles) are raised to a small positive value so the angles strictly increase."""
-    omega = np.maximum(omega, 1e-3 * omega.mean())
+    vertex's arc, the first vertex at 0.
+
+    Non-positive measures (possible next to obtuse triangles) are raised to 1e-3 of the
+    mean so the angles strictly increase. Positive measures are kept down to an arc of
+    MIN_BOUNDARY_ARC: the harmonic measure decays exponentially along a protrusion (about
+    exp(-pi L / w) at the end of a strip L long and w wide), and an arc below that is
+    narrower than the triangulation of the landmarks resolves. Raised to 1e-3 of the
+    mean instead, they leave the map far from conformal along the protrusion: on a strip
+    8 times as long as wide, mean |mu| 0.31 instead of 0.17, and the remesh 12 % / 10 %
+    short of its face count with mean radius ratio 0.95 / 0.89 at its count / half,
+    instead of 2 % short and 0.96 / 0.95."""
+    floor = np.where(omega > 0, MIN_BOUNDARY_ARC / (2 * np.pi), 1e-3 * omega.mean())
+    omega = np.maximum(omega, floor)
     omega = omega / omega.sum()
     theta = 2 * np.pi * (np.cumsum(omega) - omega / 2)
     return theta - theta[0]
