@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from conftest import DATA, shared
+from conftest import DATA, shared, strip_disk
 from qcremesh.geometry.distance import point_mesh_distance
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
 from qcremesh.mesh.io import read_mesh
@@ -172,3 +172,29 @@ def test_landmarks_drawn_again_below_the_quality_floor():
     assert [r.stats["draws"] for r in runs] == [1, 2, 3]
     q = [radius_ratio(r.V, r.F).min() for r in runs]
     assert q[0] < 0.3 and q[0] <= q[1] <= q[2]
+
+
+def test_long_strip_keeps_its_face_count():
+    """A strip 10 times as long as wide: its disk map crowds both ends, where landmarks
+    too close to the boundary chords are left out of the base mesh (the output was 20 %
+    short of the count, mean q 0.83). The CVT is drawn again with the number of interior
+    landmarks corrected."""
+    V, F = strip_disk(10)
+    for faces in (len(F), len(F) // 2):
+        r = remesh(V, F, faces=faces)
+        assert abs(len(r.F) - faces) <= 0.05 * faces
+        assert r.stats["cvt_redrawn"]
+        q = radius_ratio(r.V, r.F)
+        assert q.min() >= 0.3 and q.mean() >= 0.85
+        check_disk(r.V, r.F)
+
+
+def test_base_mesh_with_more_boundary_than_interior_uses_fewer_levels():
+    """A strip 8 times as long as wide at 1600 faces: two levels would leave a base mesh
+    of 100 faces with 42 boundary landmarks and 30 interior ones, mostly chords between
+    boundary landmarks; one level is used."""
+    V, F = strip_disk(8)
+    r = remesh(V, F, faces=1600, levels=2)
+    assert r.stats["levels"] == 1 and abs(len(r.F) - 1600) <= 0.05 * 1600
+    q = radius_ratio(r.V, r.F)
+    assert q.min() >= 0.3 and q.mean() >= 0.9

@@ -58,6 +58,10 @@ METHODS = ("subdivided", "teichmuller", "base", "uniform")
 # fewer levels are used.
 MIN_BASE_FACES = 100
 
+# A base mesh more than this fraction away from its planned face count gets its interior
+# landmarks drawn again, their number corrected.
+COUNT_SLACK = 0.02
+
 # The CVT of the landmarks samples the disk at the parameterization's vertices, subdivided
 # until there are at least this many per landmark.
 CVT_SAMPLES_PER_LANDMARK = 20
@@ -141,15 +145,15 @@ def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
 
 
 def _plan(V, F, bnd, faces, levels):
-    """Numbers of boundary and interior landmarks for ``faces`` output faces, and the
-    spacing of the boundary landmarks along the boundary."""
+    """Numbers of boundary and interior landmarks for ``faces`` output faces, the spacing
+    of the boundary landmarks along the boundary, and the base mesh's face count wanted."""
     base_faces = max(faces / 4**levels, 4.0)
     area = doublearea(V, F).sum() / 2
     h = np.sqrt(4 * area / (np.sqrt(3) * base_faces))
     perimeter = np.linalg.norm(V[np.roll(bnd, -1)] - V[bnd], axis=1).sum()
     nb = max(int(round(perimeter / h)), 3)
     ni = max(int(round((base_faces - nb + 2) / 2)), 0)
-    return nb, ni, perimeter / nb
+    return nb, ni, perimeter / nb, base_faces
 
 
 def remesh(
@@ -180,8 +184,11 @@ def remesh(
         to within a few percent.
     levels : int
         Subdivision levels above the base mesh (the base mesh has about faces / 4^levels
-        faces). Fewer are used where the base mesh would get under 100 faces (the level
-        used is ``stats["levels"]``).
+        faces). Fewer are used where the base mesh would get under 100 faces or fewer
+        interior landmarks than boundary ones (the level used is ``stats["levels"]``).
+        Where the base mesh misses its face count by more than 2 % (landmarks left out
+        near the boundary, or boundary corners added), its interior landmarks are drawn
+        again with their number corrected (``stats["cvt_redrawn"]``).
     method : {"subdivided", "teichmuller", "base", "uniform"}
         The paper's pipeline or one of its ablations (see the module documentation).
         The default is ``"subdivided"``, not the paper's ``"teichmuller"``: measured here,
@@ -257,7 +264,16 @@ def remesh(
     done("parameterize")
 
     bnd = dm.boundary
-    nb, ni, boundary_spacing = _plan(V, F, bnd, faces, levels)
+    nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels)
+    # A base mesh with fewer interior landmarks than boundary ones is mostly chords
+    # between boundary landmarks, which neither subdivision nor relaxation turns into a
+    # regular mesh (camel_b.obj, cut open along slits into a disk whose boundary is 28
+    # times the square root of its area: 18 interior landmarks against 89 at half its
+    # face count, mean radius ratio 0.51); with fewer levels the base mesh gets an interior.
+    while levels > 0 and ni < nb:
+        levels -= 1
+        nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels)
+    stats["levels"] = levels
 
     # What the landmarks of every draw share: the boundary landmarks, and the samples of
     # the disk with their points and areas on the surface for the CVT.
@@ -299,8 +315,25 @@ def remesh(
 
         stage("base mesh")
         base_uv, base_F = delaunay_disk_mesh(theta, interior)
-        run.update(base_vertices=len(base_uv), base_faces=len(base_F))
         done("base mesh")
+        kept = len(base_uv) - len(theta)
+        if method != "uniform" and kept > 0 and abs(len(base_F) - base_faces) > COUNT_SLACK * base_faces:
+            # The base mesh left out the landmarks too close to the boundary (or the CVT
+            # some with empty cells), or has more boundary landmarks than planned
+            # (corners): a second CVT with the number of interior landmarks corrected in
+            # proportion puts the face count back.
+            stage("landmarks")
+            wanted = max((base_faces - len(theta) + 2) / 2, 0.0)
+            cvt = cvt_landmarks(
+                samples_uv, surface_area, circle, int(round(wanted * ni / kept)), positions=samples_V,
+                fixed_positions=circle_V, iterations=cvt_iterations, seed=cvt_seed,
+            )
+            run.update(cvt_iterations=cvt.iterations, cvt_uniformity=cvt.uniformity, cvt_redrawn=True)
+            done("landmarks")
+            stage("base mesh")
+            base_uv, base_F = delaunay_disk_mesh(theta, cvt.points)
+            done("base mesh")
+        run.update(base_vertices=len(base_uv), base_faces=len(base_F))
 
         stage("subdivide")
         hierarchy = subdivide_disk_mesh(base_uv, base_F, levels)
