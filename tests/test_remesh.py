@@ -174,18 +174,20 @@ def test_landmarks_drawn_again_below_the_quality_floor():
     assert q[0] < 0.3 and q[0] <= q[1] <= q[2]
 
 
-def test_long_strip_keeps_its_face_count():
+def test_long_strip_keeps_its_face_count_and_quality():
     """A strip 10 times as long as wide: its disk map crowds both ends, where landmarks
     too close to the boundary chords are left out of the base mesh (the output was 20 %
-    short of the count, mean q 0.83). The CVT is drawn again with the number of interior
-    landmarks corrected."""
+    short of the count, mean q 0.83): the CVT is drawn again with the number of interior
+    landmarks corrected. The map is far from conformal there (mean |mu| 0.30), so the
+    Delaunay triangles of the disk are stretched on the surface: the base mesh's edges
+    are flipped there (mean q 0.89 -> 0.96 at the strip's face count)."""
     V, F = strip_disk(10)
     for faces in (len(F), len(F) // 2):
         r = remesh(V, F, faces=faces)
         assert abs(len(r.F) - faces) <= 0.05 * faces
-        assert r.stats["cvt_redrawn"]
+        assert r.stats["cvt_redrawn"] and r.stats["base_flips"] > 0
         q = radius_ratio(r.V, r.F)
-        assert q.min() >= 0.3 and q.mean() >= 0.85
+        assert q.min() >= 0.3 and q.mean() >= 0.92
         check_disk(r.V, r.F)
 
 

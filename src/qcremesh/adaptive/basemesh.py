@@ -6,10 +6,11 @@ import numpy as np
 from scipy.spatial import Delaunay
 
 from ..geometry.operators import signed_doublearea
+from ..geometry.quality import radius_ratio
 from ..mesh.subdivide import upsample
-from ..mesh.topology import boundary_edges
+from ..mesh.topology import boundary_edges, half_edges
 
-__all__ = ["delaunay_disk_mesh", "subdivide_disk_mesh", "hexagonal_disk_points"]
+__all__ = ["delaunay_disk_mesh", "flip_for_surface_quality", "subdivide_disk_mesh", "hexagonal_disk_points"]
 
 
 def delaunay_disk_mesh(theta, interior, margin=0.2):
@@ -84,6 +85,71 @@ def _include_every_point(uv, F, b):
     renumber = np.full(n, -1)
     renumber[kept] = np.arange(len(kept))
     return uv[kept], renumber[F]
+
+
+def flip_for_surface_quality(uv, F, X, flippable, rounds=50):
+    """Flip interior edges of a disk mesh where that raises the smaller radius ratio of
+    their two faces on the surface, keeping the mesh an embedding of the disk.
+
+    Where the disk map is conformal, the Delaunay triangulation of the disk is the
+    Delaunay triangulation of the surface too; where it is not, its triangles are
+    stretched on the surface (a strip whose ends the map crowds, a surface cut along
+    slits). An edge (a, b) with faces (a, b, c) and (b, a, d) becomes (c, d) when
+    min(q(a, d, c), q(d, b, c)) > min(q(a, b, c), q(b, a, d)), q measured at the surface
+    positions ``X``, and both new faces are counter-clockwise in the disk. Each round
+    flips, best gain first, edges that share no face, until none gains.
+
+    Parameters
+    ----------
+    uv : (n, 2) float
+    F : (m, 3) int
+        Counter-clockwise triangles of the disk.
+    X : (n, 3) float
+        The vertices' points on the surface.
+    flippable : (n,) bool
+        An edge may flip only when a corner of its two faces is flippable.
+    rounds : int
+
+    Returns
+    -------
+    F : (m, 3) int64
+        The flipped triangles (the same number).
+    flips : int
+    """
+    F = np.array(F, dtype=np.int64)
+    m, n = len(F), len(uv)
+    face = np.tile(np.arange(m), 3)
+    flips = 0
+    for _ in range(rounds):
+        H = half_edges(F)
+        opposite = np.concatenate([F[:, 2], F[:, 0], F[:, 1]])
+        key = np.minimum(H[:, 0], H[:, 1]) * n + np.maximum(H[:, 0], H[:, 1])
+        order = np.argsort(key, kind="stable")
+        twin = key[order][1:] == key[order][:-1]
+        i, j = order[:-1][twin], order[1:][twin]
+        a, b, c, d = H[i, 0], H[i, 1], opposite[i], opposite[j]
+        f1, f2 = face[i], face[j]
+        new1, new2 = np.column_stack([a, d, c]), np.column_stack([d, b, c])
+        old = np.minimum(radius_ratio(X, F[f1]), radius_ratio(X, F[f2]))
+        gain = np.minimum(radius_ratio(X, new1), radius_ratio(X, new2)) - old
+        ok = (
+            (flippable[a] | flippable[b] | flippable[c] | flippable[d])
+            & (gain > 1e-6)
+            & (signed_doublearea(uv, new1) > 0)
+            & (signed_doublearea(uv, new2) > 0)
+        )
+        candidates = np.flatnonzero(ok)
+        if len(candidates) == 0:
+            break
+        candidates = candidates[np.argsort(-gain[candidates], kind="stable")]
+        rank = np.arange(len(candidates))
+        best = np.full(m, len(candidates))
+        np.minimum.at(best, f1[candidates], rank)
+        np.minimum.at(best, f2[candidates], rank)
+        take = candidates[(best[f1[candidates]] == rank) & (best[f2[candidates]] == rank)]
+        F[f1[take]], F[f2[take]] = new1[take], new2[take]
+        flips += len(take)
+    return F, flips
 
 
 def subdivide_disk_mesh(uv, F, levels):

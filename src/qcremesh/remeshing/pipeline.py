@@ -32,7 +32,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..adaptive.basemesh import delaunay_disk_mesh, hexagonal_disk_points, subdivide_disk_mesh
+from ..adaptive.basemesh import (
+    delaunay_disk_mesh,
+    flip_for_surface_quality,
+    hexagonal_disk_points,
+    subdivide_disk_mesh,
+)
 from ..adaptive.landmarks import (
     boundary_angles,
     boundary_landmarks,
@@ -57,6 +62,13 @@ METHODS = ("subdivided", "teichmuller", "base", "uniform")
 # 4^levels times the base mesh's, cannot come within a few percent of the request, so
 # fewer levels are used.
 MIN_BASE_FACES = 100
+
+# Where the disk map's mean |mu| exceeds the first (it is near 0.02 on the scans, up to 0.09
+# on small meshes of skinny triangles; 0.17 on a strip 8 times as long as wide, 0.38 on
+# camel_b.obj), the edges of the base mesh around input vertices whose mean |mu| exceeds
+# the second are flipped to raise the quality on the surface.
+NONCONFORMAL_MEAN_MU = 0.15
+NONCONFORMAL_VERTEX_MU = 0.3
 
 # A base mesh more than this fraction away from its planned face count gets its interior
 # landmarks drawn again, their number corrected.
@@ -277,6 +289,14 @@ def remesh(
 
     # What the landmarks of every draw share: the boundary landmarks, and the samples of
     # the disk with their points and areas on the surface for the CVT.
+    if method != "uniform" and dm.mean_abs_mu > NONCONFORMAL_MEAN_MU:
+        # Per input vertex, the mean |mu| of its faces: where the map is far from
+        # conformal, the base mesh's Delaunay triangles are stretched on the surface.
+        counts = np.bincount(F.ravel(), minlength=len(V))
+        vertex_mu = np.bincount(F.ravel(), np.repeat(np.abs(dm.mu), 3), len(V)) / np.maximum(counts, 1)
+    else:
+        vertex_mu = None
+
     stage("landmarks")
     if method == "uniform":
         spacing = np.sqrt(4 * np.pi / (np.sqrt(3) * max(faces / 4**levels, 4.0)))
@@ -333,6 +353,11 @@ def remesh(
             stage("base mesh")
             base_uv, base_F = delaunay_disk_mesh(theta, cvt.points)
             done("base mesh")
+        if vertex_mu is not None:
+            on_circle = np.arange(len(base_uv)) < len(theta)
+            base_X, base_mu = project_to_surface(dm.uv, F, bnd, base_uv, on_circle, [V, vertex_mu])
+            base_F, flips = flip_for_surface_quality(base_uv, base_F, base_X, base_mu > NONCONFORMAL_VERTEX_MU)
+            run.update(base_flips=flips)
         run.update(base_vertices=len(base_uv), base_faces=len(base_F))
 
         stage("subdivide")
