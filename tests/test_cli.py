@@ -4,9 +4,9 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import DATA, shared
+from conftest import DATA, shared, strip_disk
 from qcremesh.cli.main import main
-from qcremesh.mesh.io import read_mesh
+from qcremesh.mesh.io import read_mesh, write_mesh
 
 
 def test_param_writes_obj_with_disk_uv(tmp_path, capsys):
@@ -72,6 +72,20 @@ def test_remesh_cli_with_report(tmp_path, capsys):
 def test_remesh_cli_says_when_landmarks_were_drawn_again(tmp_path, capsys):
     assert main(["remesh", str(shared("camel_b.obj")), "-o", str(tmp_path / "c.ply")]) == 0
     assert ", drawn 3 times (the first draws left faces below 0.3)" in capsys.readouterr().out
+
+
+def test_remesh_cli_warns_when_the_disk_map_is_far_from_conformal(tmp_path, capsys):
+    """A strip 16 times as long as wide: its disk map crowds the ends beyond what the
+    triangulation of the landmarks resolves (mean |mu| 0.66); the output is written and
+    a warning says why it is poor. fran_cut (mean |mu| 0.03) gets none."""
+    path = tmp_path / "strip.obj"
+    write_mesh(path, *strip_disk(16))
+    assert main(["remesh", str(path), "-o", str(tmp_path / "s.ply"), "--faces", "1000"]) == 0
+    err = capsys.readouterr().err
+    assert "qcremesh: warning: the disk map is far from conformal (mean |mu| 0.66 > 0.15)" in err
+    assert (tmp_path / "s.ply").is_file()
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "f.ply"), "--faces", "1000"]) == 0
+    assert "warning" not in capsys.readouterr().err
 
 
 def test_remesh_cli_is_deterministic(tmp_path):

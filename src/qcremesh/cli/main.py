@@ -27,7 +27,7 @@ from .. import __version__
 from ..mesh.io import MeshReadError, read_mesh, write_mesh
 from ..mesh.validate import MeshError
 from ..param.disk import disk_conformal_map
-from ..remeshing.pipeline import METHODS
+from ..remeshing.pipeline import METHODS, NONCONFORMAL_MEAN_MU
 
 __all__ = ["main"]
 
@@ -152,6 +152,13 @@ def _remesh(args, out):
     for line in _quality_lines(quality):
         print(line, file=out)
     st = result.stats
+    if st["param_mean_abs_mu"] > NONCONFORMAL_MEAN_MU:
+        print(
+            f"qcremesh: warning: the disk map is far from conformal (mean |mu| {st['param_mean_abs_mu']:.2f} > "
+            f"{NONCONFORMAL_MEAN_MU}): the surface is long and thin, or cut along slits, and one disk map "
+            "compresses parts of it beyond what the remeshing resolves; expect a less regular mesh there",
+            file=sys.stderr,
+        )
     if "teichmuller_k" in st:
         print(
             f"Teichmueller map: k = {st['teichmuller_k']:.4f} after {st['teichmuller_iterations']} iterations"
