@@ -585,7 +585,8 @@ def markdown(results):
         "- " + ", ".join(f"{k} {v}" for k, v in m["packages"].items()) + "\n",
         "Each tool runs on each mesh in a process of its own. Times are wall times of the tool's "
         "call alone (loading the mesh excluded, conversion to and from the tool's own mesh type "
-        "included): the median of "
+        "included), after one untimed run on a small mesh (so that importing the tool and "
+        "loading compiled code is in no timed run): the median of "
         f"up to {s['runs']} runs, fewer once the runs add up to {s['budget_s']:.0f} s, with "
         "min and max. Peak MB "
         f"is the peak resident memory of that process.\n",

@@ -9,9 +9,9 @@ qcremesh (``tools.qcremesh_variant``).
 Remesh only: ``"start"`` is a first edge length for the tools calibrated by length;
 ``faces`` defaults to the face count of the (subdivided) input, and with
 ``"measure": false`` the output is not measured (time and memory only). Loading
-and subdividing the mesh are not timed. The tool runs up to ``runs`` times, fewer when
-the runs so far add up to ``budget`` seconds, at least once; the wall time of each call
-is recorded. Peak memory is the peak resident set of this process, read before anything
+and subdividing the mesh are not timed. The tool first runs once, untimed, on a small
+mesh (:func:`warm_up`), then up to ``runs`` times, fewer when the runs so far add up to
+``budget`` seconds, at least once; the wall time of each call is recorded. Peak memory is the peak resident set of this process, read before anything
 is measured (so it includes Python, the libraries and the loaded mesh). The measures
 then come from the same code for every tool: ``qcremesh.beltrami_coefficient`` for
 parameterizations and ``qcremesh.geometry.quality.mesh_quality`` for remeshers.
@@ -61,6 +61,31 @@ def repeat(call, args, times, runs, budget):
     return out
 
 
+def small_disk(k=12):
+    """A k x k grid of the unit square, two triangles per cell, bent into a bowl: the
+    mesh of the warm-up run."""
+    x, y = np.meshgrid(np.linspace(0.0, 1.0, k + 1), np.linspace(0.0, 1.0, k + 1))
+    V = np.column_stack([x.ravel(), y.ravel(), 0.3 * ((x - 0.5) ** 2 + (y - 0.5) ** 2).ravel()])
+    i, j = np.meshgrid(np.arange(k), np.arange(k))
+    a = (j * (k + 1) + i).ravel()
+    F = np.concatenate([np.column_stack([a, a + 1, a + k + 2]), np.column_stack([a, a + k + 2, a + k + 1])])
+    return V, F
+
+
+def warm_up(call):
+    """Run ``call(V, F)`` once on :func:`small_disk`, untimed, so that no timed run pays
+    for what a process does once: importing the tool's package, loading compiled code
+    (Numba's cache, MKL), first allocations. A tool that cannot take the small mesh is
+    left cold (its failure, if any, shows in the timed runs); one that is not installed
+    is reported as such."""
+    try:
+        call(*small_disk())
+    except tools.Unavailable:
+        raise
+    except Exception:  # a warm-up only: the timed runs report failures
+        pass
+
+
 def time_summary(times):
     return {
         "median": float(np.median(times)),
@@ -103,6 +128,7 @@ def run_parameterization(job, V, F):
         stages.append(stage)
         return uv
 
+    warm_up(call)
     times = []
     uv = repeat(run, (), times, job["runs"], job["budget"])
     peak = memory_mb("VmHWM")
@@ -133,6 +159,7 @@ def run_remesher(job, V, F):
         stages.append(out[2])
         return out
 
+    warm_up(lambda V0, F0: tool.run(V0, F0, tool.initial(V0, F0, len(F0))))
     param = job.get("start") or tool.initial(V, F, wanted)
     calibration = 0
     while True:
