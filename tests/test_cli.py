@@ -76,13 +76,14 @@ def test_remesh_cli_says_when_landmarks_were_drawn_again(tmp_path, capsys):
 
 def test_remesh_cli_warns_when_the_disk_map_is_far_from_conformal(tmp_path, capsys):
     """A strip 16 times as long as wide: its disk map crowds the ends beyond what the
-    triangulation of the landmarks resolves (mean |mu| 0.66); the output is written and
-    a warning says why it is poor. fran_cut (mean |mu| 0.03) gets none."""
+    triangulation of the landmarks resolves (194 of its 340 boundary vertices get the
+    narrowest arc); the output is written and a warning says why it is poor. fran_cut
+    (none) gets no warning."""
     path = tmp_path / "strip.obj"
     write_mesh(path, *strip_disk(16))
     assert main(["remesh", str(path), "-o", str(tmp_path / "s.ply"), "--faces", "1000"]) == 0
     err = capsys.readouterr().err
-    assert "qcremesh: warning: the disk map is far from conformal (mean |mu| 0.66 > 0.15)" in err
+    assert "qcremesh: warning: the disk map crowds 57 % of the boundary vertices to its narrowest arc" in err
     assert (tmp_path / "s.ply").is_file()
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "f.ply"), "--faces", "1000"]) == 0
     assert "warning" not in capsys.readouterr().err

@@ -86,6 +86,11 @@ class DiskMap:
         Faces with non-positive signed area in the final map (0 unless the repair failed).
     repaired_faces : int
         Faces folded by the first solve and unfolded by the repair.
+    narrowest_arcs : int
+        Boundary vertices whose harmonic measure was below MIN_BOUNDARY_ARC and got that
+        arc instead: where the map crowds the boundary beyond what the remeshing
+        resolves, and is not conformal (the ends of a long strip, the legs of a surface
+        cut along slits).
     times : dict of str to float
         Wall time of each stage, in seconds.
     """
@@ -97,6 +102,7 @@ class DiskMap:
     center: int
     folded_faces: int
     repaired_faces: int
+    narrowest_arcs: int = 0
     times: dict = field(default_factory=dict)
 
     @property
@@ -211,7 +217,8 @@ def disk_conformal_map(V, F, *, check=True):
     mu = beltrami_coefficient(uv, F, V)
     folded = int(np.count_nonzero(signed_doublearea(uv, F) <= 0))
     times["measure"] = time.perf_counter() - t4
-    return DiskMap(uv, mu, tutte, bnd, center, folded, repaired, times)
+    narrowest = int(np.count_nonzero((omega > 0) & (omega < MIN_BOUNDARY_ARC / (2 * np.pi))))
+    return DiskMap(uv, mu, tutte, bnd, center, folded, repaired, narrowest, times)
 
 
 def mobius_normalize(z, center, anchor):
