@@ -80,3 +80,12 @@ def test_edge_pairs_packed_and_argsort_paths_agree():
     big = key + 2**62
     i2, j2 = t._edge_pairs(big)
     assert sorted(zip(i2.tolist(), j2.tolist())) == [(0, 2), (1, 4), (2, 5)]
+
+
+def test_twin_half_edges():
+    """Two triangles sharing the edge (1, 2): that edge's two half-edges, one in each face."""
+    F = np.array([[0, 1, 2], [2, 1, 3]])
+    H = t.half_edges(F)
+    i, j = t.twin_half_edges(F)
+    assert len(i) == len(j) == 1
+    assert sorted(H[i[0]]) == sorted(H[j[0]]) == [1, 2] and {i[0] % 2, j[0] % 2} == {0, 1}

@@ -8,7 +8,7 @@ from scipy.spatial import Delaunay
 from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
 from ..mesh.subdivide import upsample
-from ..mesh.topology import boundary_edges, half_edges
+from ..mesh.topology import boundary_edges, half_edges, twin_half_edges
 
 __all__ = ["delaunay_disk_mesh", "flip_for_surface_quality", "subdivide_disk_mesh", "hexagonal_disk_points"]
 
@@ -72,8 +72,9 @@ def _include_every_point(uv, F, b):
     first, last = on_hull[gap], following[gap]
     # The triangle on each chord (first, last): the one with that directed edge.
     n = len(uv)
-    keys = (F * n + np.roll(F, -1, axis=1)).ravel()
-    face = np.repeat(np.arange(len(F)), 3)[np.argsort(keys)][np.searchsorted(np.sort(keys), first * n + last)]
+    keys = (F * n + np.roll(F, -1, axis=1)).ravel()  # row f, column j: edge F[f, j] -> F[f, j + 1]
+    order = np.argsort(keys)
+    face = order[np.searchsorted(keys[order], first * n + last)] // 3
     corner = np.argmax(F[face] == first[:, None], axis=1)
     apex = F[face, (corner + 2) % 3]
     fans = []
@@ -117,18 +118,14 @@ def flip_for_surface_quality(uv, F, X, flippable, rounds=50):
     flips : int
     """
     F = np.array(F, dtype=np.int64)
-    m, n = len(F), len(uv)
-    face = np.tile(np.arange(m), 3)
+    m = len(F)
     flips = 0
     for _ in range(rounds):
         H = half_edges(F)
         opposite = np.concatenate([F[:, 2], F[:, 0], F[:, 1]])
-        key = np.minimum(H[:, 0], H[:, 1]) * n + np.maximum(H[:, 0], H[:, 1])
-        order = np.argsort(key, kind="stable")
-        twin = key[order][1:] == key[order][:-1]
-        i, j = order[:-1][twin], order[1:][twin]
+        i, j = twin_half_edges(F)
         a, b, c, d = H[i, 0], H[i, 1], opposite[i], opposite[j]
-        f1, f2 = face[i], face[j]
+        f1, f2 = i % m, j % m
         new1, new2 = np.column_stack([a, d, c]), np.column_stack([d, b, c])
         old = np.minimum(radius_ratio(X, F[f1]), radius_ratio(X, F[f2]))
         gain = np.minimum(radius_ratio(X, new1), radius_ratio(X, new2)) - old

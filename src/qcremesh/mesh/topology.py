@@ -13,6 +13,7 @@ from scipy.sparse.csgraph import connected_components as _cc
 
 __all__ = [
     "half_edges",
+    "twin_half_edges",
     "edges",
     "edge_face_counts",
     "boundary_edges",
@@ -267,6 +268,14 @@ def _edge_pairs(key):
         ks = key[order]
     same = ks[1:] == ks[:-1]
     return order[:-1][same], order[1:][same]
+
+
+def twin_half_edges(F):
+    """The two half-edges of every interior edge, as rows (i, j) of :func:`half_edges`,
+    (k,) and (k,) with i < j: on a manifold mesh each interior edge once, i in one of its
+    faces and j in the other (row r is in face ``r % m``)."""
+    F = np.asarray(F)
+    return _edge_pairs(_edge_keys(half_edges(F), int(F.max()) + 1))
 
 
 def inconsistent_edges(F):

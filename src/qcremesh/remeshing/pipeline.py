@@ -342,38 +342,36 @@ def remesh(
         """The interior landmarks of one draw (``cvt_seed``) to the relaxed output:
         (disk positions, faces, hierarchy, surface positions or None, mu, stats)."""
         run = {}
-        stage("landmarks")
-        if method == "uniform":
-            interior = hexagonal_disk_points(spacing)
-        else:
-            cvt = cvt_landmarks(
-                samples_uv, surface_area, circle, ni, positions=samples_V, fixed_positions=circle_V,
-                iterations=cvt_iterations, seed=cvt_seed,
-            )
-            interior = cvt.points
-            run.update(cvt_iterations=cvt.iterations, cvt_uniformity=cvt.uniformity)
-        done("landmarks")
 
-        stage("base mesh")
-        base_uv, base_F = delaunay_disk_mesh(theta, interior)
-        done("base mesh")
+        def base_mesh(count):
+            """The CVT's interior landmarks (``count`` of them; the hexagonal lattice for
+            ``"uniform"``) and their Delaunay base mesh."""
+            stage("landmarks")
+            if method == "uniform":
+                interior = hexagonal_disk_points(spacing)
+            else:
+                cvt = cvt_landmarks(
+                    samples_uv, surface_area, circle, count, positions=samples_V, fixed_positions=circle_V,
+                    iterations=cvt_iterations, seed=cvt_seed,
+                )
+                interior = cvt.points
+                run.update(cvt_iterations=cvt.iterations, cvt_uniformity=cvt.uniformity)
+            done("landmarks")
+            stage("base mesh")
+            mesh = delaunay_disk_mesh(theta, interior)
+            done("base mesh")
+            return mesh
+
+        base_uv, base_F = base_mesh(ni)
         kept = len(base_uv) - len(theta)
         if method != "uniform" and kept > 0 and abs(len(base_F) - base_faces) > COUNT_SLACK * base_faces:
             # The base mesh left out the landmarks too close to the boundary (or the CVT
             # some with empty cells), or has more boundary landmarks than planned
             # (corners): a second CVT with the number of interior landmarks corrected in
             # proportion puts the face count back.
-            stage("landmarks")
             wanted = max((base_faces - len(theta) + 2) / 2, 0.0)
-            cvt = cvt_landmarks(
-                samples_uv, surface_area, circle, int(round(wanted * ni / kept)), positions=samples_V,
-                fixed_positions=circle_V, iterations=cvt_iterations, seed=cvt_seed,
-            )
-            run.update(cvt_iterations=cvt.iterations, cvt_uniformity=cvt.uniformity, cvt_redrawn=True)
-            done("landmarks")
-            stage("base mesh")
-            base_uv, base_F = delaunay_disk_mesh(theta, cvt.points)
-            done("base mesh")
+            base_uv, base_F = base_mesh(int(round(wanted * ni / kept)))
+            run.update(cvt_redrawn=True)
         if stretch is not None:
             on_circle = np.arange(len(base_uv)) < len(theta)
             base_X, base_stretch = project_to_surface(dm.uv, F, bnd, base_uv, on_circle, [V, stretch])
