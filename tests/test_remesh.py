@@ -1,13 +1,13 @@
 import numpy as np
 import pytest
 
-from conftest import DATA, grid_disk, shared, strip_disk
+from conftest import DATA, shared, strip_disk
 from qcremesh.geometry.distance import point_mesh_distance
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
 from qcremesh.mesh.io import read_mesh
 from qcremesh.mesh.topology import boundary_loop, boundary_loops, euler_characteristic
 from qcremesh.mesh.validate import check_disk
-from qcremesh.remeshing.pipeline import METHODS, coherent_mu, remesh
+from qcremesh.remeshing.pipeline import METHODS, remesh
 
 
 @pytest.fixture(scope="module")
@@ -200,14 +200,3 @@ def test_base_mesh_with_more_boundary_than_interior_uses_fewer_levels():
     assert r.stats["levels"] == 1 and abs(len(r.F) - 1600) <= 0.05 * 1600
     q = radius_ratio(r.V, r.F)
     assert q.min() >= 0.3 and q.mean() >= 0.9
-
-
-def test_coherent_mu_cancels_random_arguments_and_keeps_a_stretch():
-    """A Beltrami coefficient of modulus 0.3 and random argument per face (what a
-    conformal map has on skinny triangles) averages out around the vertices; the same
-    modulus with one argument (a stretch) stays 0.3 everywhere."""
-    _, F = grid_disk(20)
-    n = F.max() + 1
-    phase = np.random.default_rng(0).uniform(0, 2 * np.pi, len(F))
-    assert coherent_mu(F, 0.3 * np.exp(1j * phase), n, 3).mean() < 0.06
-    np.testing.assert_allclose(coherent_mu(F, np.full(len(F), 0.3 * np.exp(0.5j)), n, 3), 0.3)

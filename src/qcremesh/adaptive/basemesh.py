@@ -127,7 +127,8 @@ def flip_for_surface_quality(uv, F, X, flippable, rounds=50):
         a, b, c, d = H[i, 0], H[i, 1], opposite[i], opposite[j]
         f1, f2 = i % m, j % m
         new1, new2 = np.column_stack([a, d, c]), np.column_stack([d, b, c])
-        old = np.minimum(radius_ratio(X, F[f1]), radius_ratio(X, F[f2]))
+        q = radius_ratio(X, F)
+        old = np.minimum(q[f1], q[f2])
         gain = np.minimum(radius_ratio(X, new1), radius_ratio(X, new2)) - old
         ok = (
             (flippable[a] | flippable[b] | flippable[c] | flippable[d])

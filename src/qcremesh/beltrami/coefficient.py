@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry.operators import face_gradients
-from ..mesh.topology import vertex_face_incidence
+from ..mesh.topology import adjacency_matrix, vertex_face_incidence
 
 __all__ = [
     "complex_derivatives",
@@ -20,6 +20,7 @@ __all__ = [
     "mu_chop",
     "face_to_vertex",
     "vertex_to_face",
+    "coherent_mu",
 ]
 
 
@@ -183,3 +184,30 @@ def face_to_vertex(F, values, n=None):
 def vertex_to_face(F, values):
     """Mean of the three vertex values of every face, (m,) or (m, k)."""
     return np.asarray(values)[np.asarray(F)].mean(axis=1)
+
+
+def coherent_mu(F, mu, n, rings):
+    """Modulus of a per-face Beltrami coefficient averaged around each vertex: as a complex
+    number over the vertex's faces (:func:`face_to_vertex`), then ``rings`` times with its
+    neighbours (the mean of the vertex's value and theirs). Coefficients of random
+    argument (a conformal map on skinny triangles) cancel; a stretch in one direction (a
+    map that is not conformal) stays.
+
+    Parameters
+    ----------
+    F : (m, 3) int
+    mu : (m,) complex
+    n : int
+        Number of vertices.
+    rings : int
+
+    Returns
+    -------
+    (n,) float
+    """
+    m = face_to_vertex(F, mu, n)
+    A = adjacency_matrix(F, n)
+    degree = np.asarray(A.sum(axis=1)).ravel()
+    for _ in range(rings):
+        m = (A @ m + m) / (degree + 1)
+    return np.abs(m)

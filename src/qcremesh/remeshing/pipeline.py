@@ -44,12 +44,13 @@ from ..adaptive.landmarks import (
     cvt_landmarks,
     interpolate_on_boundary,
 )
+from ..beltrami.coefficient import coherent_mu
 from ..beltrami.teichmuller import teichmuller_map
 from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import doublearea
 from ..geometry.quality import radius_ratio
 from ..mesh.subdivide import upsample
-from ..mesh.topology import adjacency_matrix, boundary_edges, boundary_loop
+from ..mesh.topology import boundary_edges, boundary_loop
 from ..param.disk import disk_conformal_map
 from .min_quality import QUALITY_FLOOR
 from .relax import relax_on_surface
@@ -159,22 +160,6 @@ def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
         for o, f in zip(out, fields):
             o[on_circle] = interpolate_on_boundary(theta_b, f[bnd], theta)
     return out
-
-
-def coherent_mu(F, mu, n, rings):
-    """Modulus of a per-face Beltrami coefficient averaged around each vertex: as a complex
-    number over the vertex's faces, then ``rings`` times with its neighbours (the mean of
-    the vertex's value and theirs). Coefficients of random argument (a conformal map on
-    skinny triangles) cancel; a stretch in one direction (a map that is not conformal)
-    stays. (F (m, 3), mu (m,) complex) -> (n,) float."""
-    count = np.maximum(np.bincount(F.ravel(), minlength=n), 1)
-    corner_mu = np.repeat(mu, 3)
-    m = (np.bincount(F.ravel(), corner_mu.real, n) + 1j * np.bincount(F.ravel(), corner_mu.imag, n)) / count
-    A = adjacency_matrix(F, n)
-    degree = np.asarray(A.sum(axis=1)).ravel()
-    for _ in range(rings):
-        m = (A @ m + m) / (degree + 1)
-    return np.abs(m)
 
 
 def _plan(V, F, bnd, faces, levels):
@@ -308,8 +293,6 @@ def remesh(
         nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels)
     stats["levels"] = levels
 
-    # What the landmarks of every draw share: the boundary landmarks, and the samples of
-    # the disk with their points and areas on the surface for the CVT.
     # Where the map is far from conformal, the base mesh's Delaunay triangles are
     # stretched on the surface.
     stretch = coherent_mu(F, dm.mu, len(V), NONCONFORMAL_RINGS)
@@ -318,6 +301,8 @@ def remesh(
     if method == "uniform" or stats["param_nonconformal_share"] <= NONCONFORMAL_SHARE:
         stretch = None
 
+    # What the landmarks of every draw share: the boundary landmarks, and the samples of
+    # the disk with their points and areas on the surface for the CVT.
     stage("landmarks")
     if method == "uniform":
         spacing = np.sqrt(4 * np.pi / (np.sqrt(3) * max(faces / 4**levels, 4.0)))

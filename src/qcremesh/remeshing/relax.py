@@ -151,10 +151,10 @@ def relax_on_surface(
         against 0.6 on the 14 benchmark runs of the 7 disk meshes (camel_b aside): the
         smallest radius ratio 0.60-0.61 -> 0.65-0.72 on 9 of them (venus at half its
         face count 0.609 -> 0.715) and 0.559 -> 0.561 on human_brain at half, the same on
-        three, lower on human_face at its face count (0.565 -> 0.500); mean radius ratio and Hausdorff distance the same to
-        0.001 and 0.02 %; hand.ply 0.2-0.3 s longer. Over seeds 0-3 of human_face the
-        Hausdorff distance moves both ways (at its face count 0.38 / 0.61 / 0.37 / 0.60 ->
-        0.38 / 0.60 / 0.45 / 0.64 %).
+        three, lower on human_face at its face count (0.565 -> 0.500); mean radius ratio
+        and Hausdorff distance the same to 0.001 and 0.02 %; hand.ply 0.2-0.3 s longer.
+        Over seeds 0-3 of human_face the Hausdorff distance moves both ways (at its face
+        count 0.38 / 0.61 / 0.37 / 0.60 -> 0.38 / 0.60 / 0.45 / 0.64 %).
     rounds : int
         Maximum number of rounds of the minimum-quality search.
 
