@@ -58,3 +58,29 @@ def strip_disk(length, k=10, seed=0):
     a = (j * (n + 1) + i).ravel()
     F = np.concatenate([np.column_stack([a, a + 1, a + n + 2]), np.column_stack([a, a + n + 2, a + n + 1])])
     return np.column_stack([P, 0.3 * np.sin(P[:, 0])]), F
+
+
+def tube_disk(length, k=16, seed=0):
+    """A tube of radius 1 and the given length, open at z = 0 and closed at the other end
+    by a hemisphere: rings of k vertices (the tube's rings 2 pi / k apart, each turned by
+    half a step, jittered), the cap's rings converging to one pole. A disk whose
+    conformal map puts the far end within about exp(-length) of the centre."""
+    h = 2 * np.pi / k
+    rings = [(z, 1.0) for z in np.linspace(0.0, length, max(int(round(length / h)), 1) + 1)]
+    caps = max(int(round(np.pi / 2 / h)), 2)
+    rings += [(length + np.sin(a), np.cos(a)) for a in np.pi / 2 * np.arange(1, caps) / caps]
+    t = 2 * np.pi * np.arange(k) / k
+    turn = t + h / 2 * np.arange(len(rings))[:, None]
+    P = np.concatenate([np.column_stack([r * np.cos(s), r * np.sin(s), np.full(k, z)]) for s, (z, r) in zip(turn, rings)])
+    P[k:] += 0.05 * h * np.random.default_rng(seed).standard_normal((len(P) - k, 3))
+    a = np.arange(k)
+    b = (a + 1) % k
+    o = k * np.arange(len(rings) - 1)[:, None]  # first vertex of each ring but the last
+    F = np.concatenate(
+        [
+            np.stack([o + a, o + b, o + k + a], -1).reshape(-1, 3),
+            np.stack([o + b, o + k + b, o + k + a], -1).reshape(-1, 3),
+            np.column_stack([o[-1] + k + a, o[-1] + k + b, np.full(k, len(P))]),
+        ]
+    )
+    return np.concatenate([P, [[0.0, 0.0, length + 1.0]]]), F

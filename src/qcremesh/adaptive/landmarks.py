@@ -376,9 +376,13 @@ def cvt_landmarks(
     fixed = np.asarray(fixed, dtype=np.float64).reshape(-1, 2)
     rng = np.random.default_rng(seed)
     # Start from samples drawn in proportion to the measure to spread: already close to
-    # uniform on the surface, which Lloyd's iteration then regularizes.
+    # uniform on the surface, which Lloyd's iteration then regularizes. The jitter stays far
+    # below the distance to the nearest other sample, which is 1e-13 where the disk map
+    # squeezes the far end of a long tube.
     pick = rng.choice(len(samples), size=count, replace=False, p=mass / mass.sum())
-    points = samples[pick] + 1e-9 * rng.standard_normal((count, 2))
+    spacing_at = cKDTree(samples).query(samples[pick], k=2)[0][:, 1] if count else np.zeros(0)
+    jitter = np.minimum(1e-9, 1e-3 * spacing_at)[:, None]
+    points = samples[pick] + jitter * rng.standard_normal((count, 2))
     nfix = len(fixed)
     spacing = np.sqrt(np.pi / max(count + nfix, 1))
     if positions is None:
