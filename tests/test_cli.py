@@ -4,7 +4,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import DATA, shared, strip_disk
+from conftest import DATA, shared, strip_disk, tube_disk
 from qcremesh.cli.main import main
 from qcremesh.mesh.io import read_mesh, write_mesh
 
@@ -86,6 +86,23 @@ def test_remesh_cli_warns_when_the_disk_map_is_far_from_conformal(tmp_path, caps
     assert "qcremesh: warning: the disk map crowds 57 % of the boundary vertices to its narrowest arc" in err
     assert (tmp_path / "s.ply").is_file()
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "f.ply"), "--faces", "1000"]) == 0
+    assert "warning" not in capsys.readouterr().err
+
+
+def test_cli_warns_when_the_disk_map_loses_precision(tmp_path, capsys):
+    """A tube 50 long and of radius 1, closed at its far end: its disk map puts the far
+    end within exp(-50) of the centre, below the precision of double numbers (faces of
+    zero area, folds). Both commands write their output and warn; a tube 30 long (its far
+    end within 2e-9 of the centre, resolved) gets no warning."""
+    path = tmp_path / "tube.obj"
+    write_mesh(path, *tube_disk(50))
+    assert main(["param", str(path), "-o", str(tmp_path / "d.obj")]) == 0
+    assert "qcremesh: warning: the disk map has 316 folded or zero-area faces" in capsys.readouterr().err
+    assert main(["remesh", str(path), "-o", str(tmp_path / "r.ply"), "--faces", "1000"]) == 0
+    assert "qcremesh: warning: the disk map has 316 folded or zero-area faces" in capsys.readouterr().err
+    assert (tmp_path / "d.obj").is_file() and (tmp_path / "r.ply").is_file()
+    write_mesh(path, *tube_disk(30))
+    assert main(["remesh", str(path), "-o", str(tmp_path / "r.ply"), "--faces", "1000"]) == 0
     assert "warning" not in capsys.readouterr().err
 
 
