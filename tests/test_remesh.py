@@ -216,3 +216,17 @@ def test_remesh_follows_a_long_tube_to_its_end():
         assert quality["hausdorff"] < 0.01
         assert quality["q_mean"] >= 0.97 and quality["q_min"] >= 0.5
         check_disk(r.V, r.F)
+
+
+def test_cells_far_from_equal_mean_fewer_levels():
+    """A tube 40 long and of radius 1 at 1,700 faces: with two levels the base mesh's
+    edges are 2.4 long, the disk map's scale changes by e^2.4 across them, and the CVT's
+    cells are far from equal on the surface (their areas' coefficient of variation 1.1):
+    mean radius ratio 0.89, the tube's far half short of faces. One level is used (0.98)."""
+    V, F = tube_disk(40)
+    r = remesh(V, F, faces=1700, levels=2)
+    assert r.stats["levels"] == 1 and r.stats["cvt_uniformity"] < 0.5
+    assert abs(len(r.F) - 1700) <= 0.05 * 1700
+    far = r.V[r.F].mean(1)[:, 2] > 20
+    assert 0.45 < far.mean() < 0.55
+    assert radius_ratio(r.V, r.F).mean() >= 0.97

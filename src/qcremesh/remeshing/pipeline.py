@@ -76,6 +76,14 @@ NONCONFORMAL_MU = 0.3
 NONCONFORMAL_SHARE = 0.01
 NONCONFORMAL_RINGS = 3
 
+# The landmarks cannot follow the surface where its disk map's scale changes by a large
+# factor across one base-mesh edge: a tube 40 long and of radius 1 at 1,700 faces gets base
+# edges 2.4 long with two levels, across which the scale changes by e^2.4, and the surface
+# areas of the CVT's cells have a coefficient of variation of 1.1 (mean radius ratio 0.89,
+# a third of the faces due on its far half); 0.16 with one level (0.98). The disk meshes of
+# ../shared/data: at most 0.30. Above MAX_CELL_SPREAD, fewer levels are used.
+MAX_CELL_SPREAD = 0.5
+
 # A base mesh more than this fraction away from its planned face count gets its interior
 # landmarks drawn again, their number corrected.
 COUNT_SLACK = 0.02
@@ -203,7 +211,9 @@ def remesh(
     levels : int
         Subdivision levels above the base mesh (the base mesh has about faces / 4^levels
         faces). Fewer are used where the base mesh would get under 100 faces or fewer
-        interior landmarks than boundary ones (the level used is ``stats["levels"]``).
+        interior landmarks than boundary ones, or where the first CVT's cells are far
+        from equal on the surface (``MAX_CELL_SPREAD``; the level used is
+        ``stats["levels"]``).
         Where the base mesh misses its face count by more than 2 % (landmarks left out
         near the boundary, or boundary corners added), its interior landmarks are drawn
         again with their number corrected (``stats["cvt_redrawn"]``).
@@ -282,17 +292,6 @@ def remesh(
     done("parameterize")
 
     bnd = dm.boundary
-    nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels)
-    # A base mesh with fewer interior landmarks than boundary ones is mostly chords
-    # between boundary landmarks, which neither subdivision nor relaxation turns into a
-    # regular mesh (camel_b.obj, cut open along slits into a disk whose boundary is 28
-    # times the square root of its area: 18 interior landmarks against 89 at half its
-    # face count, mean radius ratio 0.51); with fewer levels the base mesh gets an interior.
-    while levels > 0 and ni < nb:
-        levels -= 1
-        nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels)
-    stats["levels"] = levels
-
     # Where the map is far from conformal, the base mesh's Delaunay triangles are
     # stretched on the surface.
     stretch = coherent_mu(F, dm.mu, len(V), NONCONFORMAL_RINGS)
@@ -301,143 +300,165 @@ def remesh(
     if method == "uniform" or stats["param_nonconformal_share"] <= NONCONFORMAL_SHARE:
         stretch = None
 
-    # What the landmarks of every draw share: the boundary landmarks, and the samples of
-    # the disk with their points and areas on the surface for the CVT.
-    stage("landmarks")
-    if method == "uniform":
-        spacing = np.sqrt(4 * np.pi / (np.sqrt(3) * max(faces / 4**levels, 4.0)))
-        nbu = max(int(round(2 * np.pi / spacing)), 3)
-        theta = 2 * np.pi * np.arange(nbu) / nbu
-        corner = np.zeros(nbu, dtype=bool)
-    else:
-        theta, corner = boundary_landmarks(V, dm.uv, bnd, nb, corner_angle)
-        stats["boundary_corners"] = int(corner.sum())
-        samples_uv, samples_V, samples_F = dm.uv, V, F
-        while len(samples_uv) < CVT_SAMPLES_PER_LANDMARK * (ni + nb):
-            samples_V, _ = upsample(samples_V, samples_F, 1)
-            samples_uv, samples_F = upsample(samples_uv, samples_F, 1)
-        surface_area = np.bincount(
-            samples_F.ravel(), weights=np.repeat(doublearea(samples_V, samples_F) / 6, 3), minlength=len(samples_uv)
-        )
-        circle = np.column_stack([np.cos(theta), np.sin(theta)])
-        circle_V = interpolate_on_boundary(boundary_angles(dm.uv, bnd), V[bnd], theta)
-    done("landmarks")
+    # Where the CVT's cells come out far from equal on the surface (above MAX_CELL_SPREAD),
+    # fewer levels (more landmarks) are planned and the landmarks drawn again.
+    while True:
+        nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels)
+        # A base mesh with fewer interior landmarks than boundary ones is mostly chords
+        # between boundary landmarks, which neither subdivision nor relaxation turns into a
+        # regular mesh (camel_b.obj, cut open along slits into a disk whose boundary is 28
+        # times the square root of its area: 18 interior landmarks against 89 at half its
+        # face count, mean radius ratio 0.51); with fewer levels the base mesh gets an interior.
+        while levels > 0 and ni < nb:
+            levels -= 1
+            nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels)
+        stats["levels"] = levels
 
-    def adaptive_mesh(cvt_seed):
-        """The interior landmarks of one draw (``cvt_seed``) to the relaxed output:
-        (disk positions, faces, hierarchy, surface positions or None, mu, stats)."""
-        run = {}
-
-        def base_mesh(count):
-            """The CVT's interior landmarks (``count`` of them; the hexagonal lattice for
-            ``"uniform"``) and their Delaunay base mesh."""
-            stage("landmarks")
-            if method == "uniform":
-                interior = hexagonal_disk_points(spacing)
-            else:
-                cvt = cvt_landmarks(
-                    samples_uv, surface_area, circle, count, positions=samples_V, fixed_positions=circle_V,
-                    iterations=cvt_iterations, seed=cvt_seed,
-                )
-                interior = cvt.points
-                run.update(cvt_iterations=cvt.iterations, cvt_uniformity=cvt.uniformity)
-            done("landmarks")
-            stage("base mesh")
-            mesh = delaunay_disk_mesh(theta, interior)
-            done("base mesh")
-            return mesh
-
-        base_uv, base_F = base_mesh(ni)
-        kept = len(base_uv) - len(theta)
-        if method != "uniform" and kept > 0 and abs(len(base_F) - base_faces) > COUNT_SLACK * base_faces:
-            # The base mesh left out the landmarks too close to the boundary (or the CVT
-            # some with empty cells), or has more boundary landmarks than planned
-            # (corners): a second CVT with the number of interior landmarks corrected in
-            # proportion puts the face count back.
-            wanted = max((base_faces - len(theta) + 2) / 2, 0.0)
-            base_uv, base_F = base_mesh(int(round(wanted * ni / kept)))
-            run.update(cvt_redrawn=True)
-        if stretch is not None:
-            on_circle = np.arange(len(base_uv)) < len(theta)
-            base_X, base_stretch = project_to_surface(dm.uv, F, bnd, base_uv, on_circle, [V, stretch])
-            base_F, flips = flip_for_surface_quality(base_uv, base_F, base_X, base_stretch > NONCONFORMAL_MU)
-            run.update(base_flips=flips)
-        run.update(base_vertices=len(base_uv), base_faces=len(base_F))
-
-        stage("subdivide")
-        hierarchy = subdivide_disk_mesh(base_uv, base_F, levels)
-        uv, Fo = hierarchy[-1]
-        done("subdivide")
-
-        mu = None
-        if method == "teichmuller" and levels > 0:
-            stage("teichmuller")
-            # The source is the equilateral complex of the subdivided mesh and the QC
-            # iteration starts from the linear subdivision, which already matches the
-            # landmarks (see qcremesh.beltrami.teichmuller).
-            tm = teichmuller_map(
-                uv,
-                Fo,
-                np.arange(len(base_uv)),
-                base_uv,
-                boundary=boundary_loop(Fo),
-                initial=uv,
-                reference="equilateral",
-                max_iter=teichmuller_iterations,
-                smooth=1,
+        # What the landmarks of every draw share: the boundary landmarks, and the samples of
+        # the disk with their points and areas on the surface for the CVT.
+        stage("landmarks")
+        if method == "uniform":
+            spacing = np.sqrt(4 * np.pi / (np.sqrt(3) * max(faces / 4**levels, 4.0)))
+            nbu = max(int(round(2 * np.pi / spacing)), 3)
+            theta = 2 * np.pi * np.arange(nbu) / nbu
+            corner = np.zeros(nbu, dtype=bool)
+        else:
+            theta, corner = boundary_landmarks(V, dm.uv, bnd, nb, corner_angle)
+            stats["boundary_corners"] = int(corner.sum())
+            samples_uv, samples_V, samples_F = dm.uv, V, F
+            while len(samples_uv) < CVT_SAMPLES_PER_LANDMARK * (ni + nb):
+                samples_V, _ = upsample(samples_V, samples_F, 1)
+                samples_uv, samples_F = upsample(samples_uv, samples_F, 1)
+            surface_area = np.bincount(
+                samples_F.ravel(), weights=np.repeat(doublearea(samples_V, samples_F) / 6, 3), minlength=len(samples_uv)
             )
-            uv, mu = tm.uv, tm.mu
-            run.update(
-                teichmuller_k=float(tm.k),
-                teichmuller_iterations=int(tm.iterations),
-                teichmuller_converged=bool(tm.converged),
-                teichmuller_folded_faces=int(tm.folded_faces),
-                teichmuller_guarded_faces=int(tm.guarded_faces),
-            )
-            done("teichmuller")
+            circle = np.column_stack([np.cos(theta), np.sin(theta)])
+            circle_V = interpolate_on_boundary(boundary_angles(dm.uv, bnd), V[bnd], theta)
+        done("landmarks")
 
-        Vo = None
-        if relax > 0:
-            stage("relax")
-            pinned = np.zeros(len(uv), dtype=bool)
-            pinned[: len(theta)] = corner
-            scale = boundary_spacing
-            sweeps = relax
-            if method == "subdivided" and levels > 0:
-                # Coarse to fine: the level below the output takes the sweeps (a quarter of
-                # the vertices, twice the reach per sweep), and its relaxed subdivision a
-                # quarter as many.
-                coarse_uv, coarse_F = hierarchy[-2]
-                coarse_uv, _ = relax_on_surface(
-                    dm.uv, F, V, coarse_uv, coarse_F, iterations=relax, pinned=pinned[: len(coarse_uv)],
-                    boundary_scale=2 * scale, min_quality=0,
+        def adaptive_mesh(cvt_seed, first):
+            """The interior landmarks of one draw (``cvt_seed``) to the relaxed output:
+            (disk positions, faces, hierarchy, surface positions or None, mu, stats); None
+            when the ``first`` draw's CVT cells are too unequal for these levels."""
+            run = {}
+
+            def base_mesh(count):
+                """The CVT's interior landmarks (``count`` of them; the hexagonal lattice for
+                ``"uniform"``) and their Delaunay base mesh."""
+                stage("landmarks")
+                if method == "uniform":
+                    interior = hexagonal_disk_points(spacing)
+                else:
+                    cvt = cvt_landmarks(
+                        samples_uv, surface_area, circle, count, positions=samples_V, fixed_positions=circle_V,
+                        iterations=cvt_iterations, seed=cvt_seed,
+                    )
+                    interior = cvt.points
+                    run.update(cvt_iterations=cvt.iterations, cvt_uniformity=cvt.uniformity)
+                done("landmarks")
+                stage("base mesh")
+                mesh = delaunay_disk_mesh(theta, interior)
+                done("base mesh")
+                return mesh
+
+            base_uv, base_F = base_mesh(ni)
+            if first and levels > 0 and run.get("cvt_uniformity", 0.0) > MAX_CELL_SPREAD:
+                return None
+            kept = len(base_uv) - len(theta)
+            if method != "uniform" and kept > 0 and abs(len(base_F) - base_faces) > COUNT_SLACK * base_faces:
+                # The base mesh left out the landmarks too close to the boundary (or the CVT
+                # some with empty cells), or has more boundary landmarks than planned
+                # (corners): a second CVT with the number of interior landmarks corrected in
+                # proportion puts the face count back.
+                wanted = max((base_faces - len(theta) + 2) / 2, 0.0)
+                base_uv, base_F = base_mesh(int(round(wanted * ni / kept)))
+                run.update(cvt_redrawn=True)
+            if stretch is not None:
+                on_circle = np.arange(len(base_uv)) < len(theta)
+                base_X, base_stretch = project_to_surface(dm.uv, F, bnd, base_uv, on_circle, [V, stretch])
+                base_F, flips = flip_for_surface_quality(base_uv, base_F, base_X, base_stretch > NONCONFORMAL_MU)
+                run.update(base_flips=flips)
+            run.update(base_vertices=len(base_uv), base_faces=len(base_F))
+
+            stage("subdivide")
+            hierarchy = subdivide_disk_mesh(base_uv, base_F, levels)
+            uv, Fo = hierarchy[-1]
+            done("subdivide")
+
+            mu = None
+            if method == "teichmuller" and levels > 0:
+                stage("teichmuller")
+                # The source is the equilateral complex of the subdivided mesh and the QC
+                # iteration starts from the linear subdivision, which already matches the
+                # landmarks (see qcremesh.beltrami.teichmuller).
+                tm = teichmuller_map(
+                    uv,
+                    Fo,
+                    np.arange(len(base_uv)),
+                    base_uv,
+                    boundary=boundary_loop(Fo),
+                    initial=uv,
+                    reference="equilateral",
+                    max_iter=teichmuller_iterations,
+                    smooth=1,
                 )
-                uv = subdivide_disk_mesh(coarse_uv, coarse_F, 1)[-1][0]
-                sweeps = max(relax // 4, 1)
-            uv, Vo = relax_on_surface(dm.uv, F, V, uv, Fo, iterations=sweeps, pinned=pinned, boundary_scale=scale)
-            done("relax")
-        return uv, Fo, hierarchy, Vo, mu, run
+                uv, mu = tm.uv, tm.mu
+                run.update(
+                    teichmuller_k=float(tm.k),
+                    teichmuller_iterations=int(tm.iterations),
+                    teichmuller_converged=bool(tm.converged),
+                    teichmuller_folded_faces=int(tm.folded_faces),
+                    teichmuller_guarded_faces=int(tm.guarded_faces),
+                )
+                done("teichmuller")
 
-    # The smallest radius ratio after the relaxation depends chaotically on the landmarks.
-    # With landmarks from disk cells it was below QUALITY_FLOOR in 3 of 24 draws (seeds 0-5
-    # on hand.ply at both face counts, human_brain.ply and human_face.obj at half), each at
-    # a narrow notch of a scan border; with surface cells, in none of 38 draws (seeds 0-9 of
-    # human_face.obj at half its face count, 0-5 at its face count, 0-5 of fran_cut, venus
-    # and foot and 0-3 of hand.ply at half; the lowest 0.310); hand.ply subdivided once
-    # was (0.293, at a boundary corner) until the relaxation learnt to smooth the rings
-    # around such faces together. camel_b.obj, cut along zero-width slits, never reaches
-    # it. Below it, the landmarks are drawn again, up to ``retries`` times, and the best
-    # draw is kept.
-    draws = 1 + (retries if relax > 0 and method != "uniform" else 0)
-    best = None
-    for draw in range(draws):
-        candidate = adaptive_mesh(seed if draw == 0 else [seed, draw])
-        _, Fo, _, Vo, _, _ = candidate
-        q_min = radius_ratio(Vo, Fo).min() if Vo is not None else 1.0
-        if best is None or q_min > best[0]:
-            best = (q_min, candidate)
-        if q_min >= QUALITY_FLOOR:
+            Vo = None
+            if relax > 0:
+                stage("relax")
+                pinned = np.zeros(len(uv), dtype=bool)
+                pinned[: len(theta)] = corner
+                scale = boundary_spacing
+                sweeps = relax
+                if method == "subdivided" and levels > 0:
+                    # Coarse to fine: the level below the output takes the sweeps (a quarter of
+                    # the vertices, twice the reach per sweep), and its relaxed subdivision a
+                    # quarter as many.
+                    coarse_uv, coarse_F = hierarchy[-2]
+                    coarse_uv, _ = relax_on_surface(
+                        dm.uv, F, V, coarse_uv, coarse_F, iterations=relax, pinned=pinned[: len(coarse_uv)],
+                        boundary_scale=2 * scale, min_quality=0,
+                    )
+                    uv = subdivide_disk_mesh(coarse_uv, coarse_F, 1)[-1][0]
+                    sweeps = max(relax // 4, 1)
+                uv, Vo = relax_on_surface(dm.uv, F, V, uv, Fo, iterations=sweeps, pinned=pinned, boundary_scale=scale)
+                done("relax")
+            return uv, Fo, hierarchy, Vo, mu, run
+
+        # The smallest radius ratio after the relaxation depends chaotically on the landmarks.
+        # With landmarks from disk cells it was below QUALITY_FLOOR in 3 of 24 draws (seeds 0-5
+        # on hand.ply at both face counts, human_brain.ply and human_face.obj at half), each at
+        # a narrow notch of a scan border; with surface cells, in none of 38 draws (seeds 0-9 of
+        # human_face.obj at half its face count, 0-5 at its face count, 0-5 of fran_cut, venus
+        # and foot and 0-3 of hand.ply at half; the lowest 0.310); hand.ply subdivided once
+        # was (0.293, at a boundary corner) until the relaxation learnt to smooth the rings
+        # around such faces together. camel_b.obj, cut along zero-width slits, never reaches
+        # it. Below it, the landmarks are drawn again, up to ``retries`` times, and the best
+        # draw is kept.
+        draws = 1 + (retries if relax > 0 and method != "uniform" else 0)
+        best = None
+        for draw in range(draws):
+            candidate = adaptive_mesh(seed if draw == 0 else [seed, draw], draw == 0)
+            if candidate is None:
+                break
+            _, Fo, _, Vo, _, _ = candidate
+            q_min = radius_ratio(Vo, Fo).min() if Vo is not None else 1.0
+            if best is None or q_min > best[0]:
+                best = (q_min, candidate)
+            if q_min >= QUALITY_FLOOR:
+                break
+        if best is not None or levels == 0:
             break
+        levels -= 1
     uv, Fo, hierarchy, Vo, mu, run = best[1]
     stats.update(run, draws=draw + 1)
 
