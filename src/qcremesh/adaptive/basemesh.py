@@ -118,9 +118,9 @@ def _insert_points(uv, F, points):
 
 def _flip_rounds(F, gain_of, rounds):
     """Rounds of edge flips: each flips, best gain first, interior edges that share no
-    face, where ``gain_of(a, b, c, d)`` (the edge (a, b) with faces (a, b, c) and (b, a, d),
-    to become (c, d)) is positive; until none is. Returns the flipped faces and the
-    number of flips."""
+    face, where ``gain_of(F, f1, f2, a, b, c, d)`` is positive (per interior edge (a, b)
+    with faces f1 = (a, b, c) and f2 = (b, a, d), to become (c, d)); until none is.
+    Returns the flipped faces and the number of flips."""
     F = np.array(F, dtype=np.int64)
     m = len(F)
     flips = 0
