@@ -84,3 +84,19 @@ def tube_disk(length, k=16, seed=0):
         ]
     )
     return np.concatenate([P, [[0.0, 0.0, length + 1.0]]]), F
+
+
+def delaunay_excess(uv, F):
+    """Largest excess over pi of the two angles opposite an interior edge of a planar
+    triangulation (<= 0 where it is Delaunay)."""
+    from qcremesh.mesh.topology import half_edges, twin_half_edges
+
+    H = half_edges(F)
+    opposite = np.concatenate([F[:, 2], F[:, 0], F[:, 1]])
+    i, j = twin_half_edges(F)
+
+    def angle(apex, p, q):
+        u, v = uv[p] - uv[apex], uv[q] - uv[apex]
+        return np.arctan2(np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]), (u * v).sum(1))
+
+    return (angle(opposite[i], H[i, 0], H[i, 1]) + angle(opposite[j], H[i, 1], H[i, 0]) - np.pi).max()

@@ -2,10 +2,9 @@ import numpy as np
 import pytest
 from scipy.spatial import Delaunay, cKDTree
 
-from conftest import DATA, tube_disk
+from conftest import DATA, delaunay_excess, tube_disk
 from qcremesh.adaptive.basemesh import (
     delaunay_disk_mesh,
-    delaunay_flips,
     flip_for_surface_quality,
     hexagonal_disk_points,
     subdivide_disk_mesh,
@@ -225,21 +224,6 @@ def test_delaunay_disk_mesh_keeps_crowded_boundary_points():
     assert np.all(signed_doublearea(uv, F) > 0)
 
 
-def _delaunay_excess(uv, F):
-    """Largest excess over pi of the two angles opposite an interior edge."""
-    from qcremesh.mesh.topology import half_edges, twin_half_edges
-
-    H = half_edges(F)
-    opposite = np.concatenate([F[:, 2], F[:, 0], F[:, 1]])
-    i, j = twin_half_edges(F)
-
-    def angle(apex, p, q):
-        u, v = uv[p] - uv[apex], uv[q] - uv[apex]
-        return np.arctan2(np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]), (u * v).sum(1))
-
-    return (angle(opposite[i], H[i, 0], H[i, 1]) + angle(opposite[j], H[i, 1], H[i, 0]) - np.pi).max()
-
-
 def test_delaunay_disk_mesh_keeps_crowded_interior_points():
     """Interior points 1e-9 and 1e-11 apart (the far end of a long tube in its disk map)
     are below Qhull's precision, which leaves them out: they are inserted and the
@@ -263,21 +247,7 @@ def test_delaunay_disk_mesh_keeps_crowded_interior_points():
     assert sorted(loop) == list(range(16)) and euler_characteristic(F) == 1
     assert np.all(signed_doublearea(uv, F) > 0)
     np.testing.assert_allclose(signed_doublearea(uv, F).sum() / 2, 8 * np.sin(2 * np.pi / 16), rtol=1e-12)
-    assert _delaunay_excess(uv, F) < 1e-9
-
-
-def test_delaunay_flips_recover_the_delaunay_triangulation():
-    """Lawson's flips turn a valid but stretched triangulation (the Delaunay triangulation
-    of the points squeezed 5 times along y) into Qhull's Delaunay triangulation of
-    points in general position; a Delaunay triangulation stays as it is."""
-    uv = np.random.default_rng(1).uniform(0, 1, (200, 2))
-    F = Delaunay(uv * [1, 0.2]).simplices
-    assert _delaunay_excess(uv, F) > 0.5
-    G = delaunay_flips(uv, F)
-    assert np.all(signed_doublearea(uv, G) > 0)
-    expected = Delaunay(uv).simplices
-    assert sorted(map(tuple, np.sort(G, 1))) == sorted(map(tuple, np.sort(expected, 1)))
-    np.testing.assert_array_equal(delaunay_flips(uv, G), G)
+    assert delaunay_excess(uv, F) < 1e-9
 
 
 def test_flips_raise_the_quality_on_a_stretched_surface():

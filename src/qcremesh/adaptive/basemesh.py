@@ -5,19 +5,13 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import Delaunay
 
-from ..geometry.locate import locate_points
 from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
+from ..geometry.triangulation import delaunay_flips, flip_edges, insert_points
 from ..mesh.subdivide import upsample
-from ..mesh.topology import boundary_edges, half_edges, twin_half_edges
+from ..mesh.topology import boundary_edges
 
-__all__ = [
-    "delaunay_disk_mesh",
-    "delaunay_flips",
-    "flip_for_surface_quality",
-    "subdivide_disk_mesh",
-    "hexagonal_disk_points",
-]
+__all__ = ["delaunay_disk_mesh", "flip_for_surface_quality", "subdivide_disk_mesh", "hexagonal_disk_points"]
 
 
 def delaunay_disk_mesh(theta, interior, margin=0.2):
@@ -70,8 +64,8 @@ def _include_every_point(uv, F, b):
     strip, the far end of a long tube, about 1e-9 from the centre). A boundary point left
     out is put back into the triangle on the chord that skips it (split into a fan from
     that triangle's third corner); interior points left out are inserted into the
-    triangles that contain them (:func:`_insert_points`) and the edges flipped until the
-    triangulation is Delaunay again (:func:`delaunay_flips`), whose test on angles does
+    triangles that contain them (:func:`~qcremesh.geometry.triangulation.insert_points`) and the edges flipped until the
+    triangulation is Delaunay again (:func:`~qcremesh.geometry.triangulation.delaunay_flips`), whose test on angles does
     not depend on the scale."""
     used = np.zeros(len(uv), dtype=bool)
     used[F.ravel()] = True
@@ -95,95 +89,8 @@ def _include_every_point(uv, F, b):
     F = np.concatenate([np.delete(F, face, axis=0)] + fans)
     missing = np.flatnonzero(~used[b:]) + b
     if len(missing):
-        F = delaunay_flips(uv, _insert_points(uv, F, missing))
+        F = delaunay_flips(uv, insert_points(uv, F, missing))
     return uv, F
-
-
-def _insert_points(uv, F, points):
-    """Insert the vertices ``points`` of ``uv``, not yet in the triangulation ``F``, each
-    by splitting the triangle that contains it into three; rounds of one point per
-    triangle. Points outside the triangulation are left out."""
-    F = np.array(F, dtype=np.int64)
-    while len(points):
-        face, _, inside = locate_points(uv, F, uv[points])
-        points, face = points[inside], face[inside]
-        first = np.unique(face, return_index=True)[1]
-        p, f = points[first], face[first]
-        a, b, c = F[f].T
-        F[f] = np.column_stack([a, b, p])
-        F = np.concatenate([F, np.column_stack([b, c, p]), np.column_stack([c, a, p])])
-        points = np.delete(points, first)
-    return F
-
-
-def _flip_rounds(F, gain_of, rounds):
-    """Rounds of edge flips: each flips, best gain first, interior edges that share no
-    face, where ``gain_of(F, f1, f2, a, b, c, d)`` is positive (per interior edge (a, b)
-    with faces f1 = (a, b, c) and f2 = (b, a, d), to become (c, d)); until none is.
-    Returns the flipped faces and the number of flips."""
-    F = np.array(F, dtype=np.int64)
-    m = len(F)
-    flips = 0
-    for _ in range(rounds):
-        H = half_edges(F)
-        opposite = np.concatenate([F[:, 2], F[:, 0], F[:, 1]])
-        i, j = twin_half_edges(F)
-        a, b, c, d = H[i, 0], H[i, 1], opposite[i], opposite[j]
-        f1, f2 = i % m, j % m
-        gain = gain_of(F, f1, f2, a, b, c, d)
-        candidates = np.flatnonzero(gain > 0)
-        if len(candidates) == 0:
-            break
-        candidates = candidates[np.argsort(-gain[candidates], kind="stable")]
-        rank = np.arange(len(candidates))
-        best = np.full(m, len(candidates))
-        np.minimum.at(best, f1[candidates], rank)
-        np.minimum.at(best, f2[candidates], rank)
-        take = candidates[(best[f1[candidates]] == rank) & (best[f2[candidates]] == rank)]
-        F[f1[take]] = np.column_stack([a, d, c])[take]
-        F[f2[take]] = np.column_stack([d, b, c])[take]
-        flips += len(take)
-    return F, flips
-
-
-def _angle(uv, apex, p, q):
-    """Angle at ``apex`` between the directions to ``p`` and ``q``, from differences of
-    coordinates (so at any scale)."""
-    u, v = uv[p] - uv[apex], uv[q] - uv[apex]
-    return np.arctan2(np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]), (u * v).sum(1))
-
-
-def delaunay_flips(uv, F, rounds=1000):
-    """Flip the edges of a planar triangulation until it is Delaunay (Lawson's algorithm).
-
-    An interior edge (a, b) with faces (a, b, c) and (b, a, d) is flipped to (c, d) when
-    its opposite angles sum to more than pi (d inside the circumcircle of (a, b, c)). The
-    test is on angles measured from differences of coordinates, so it holds for triangles
-    of any size, where the in-circle test of a lifting (Qhull's) loses the triangles
-    below about 1e-7 of the extent of the point set.
-
-    Parameters
-    ----------
-    uv : (n, 2) float
-    F : (m, 3) int
-        Counter-clockwise triangles.
-    rounds : int
-        Maximum number of rounds of independent flips.
-
-    Returns
-    -------
-    (m, 3) int64
-        Counter-clockwise triangles of the same vertices.
-    """
-
-    def excess(F, f1, f2, a, b, c, d):
-        gain = _angle(uv, c, a, b) + _angle(uv, d, b, a) - np.pi
-        valid = (signed_doublearea(uv, np.column_stack([a, d, c])) > 0) & (
-            signed_doublearea(uv, np.column_stack([d, b, c])) > 0
-        )
-        return np.where(valid, gain - 1e-12, -1.0)
-
-    return _flip_rounds(F, excess, rounds)[0]
 
 
 def flip_for_surface_quality(uv, F, X, flippable, rounds=50):
@@ -229,7 +136,7 @@ def flip_for_surface_quality(uv, F, X, flippable, rounds=50):
         )
         return np.where(ok, gain, -1.0)
 
-    return _flip_rounds(F, gain, rounds)
+    return flip_edges(F, gain, rounds)
 
 
 def subdivide_disk_mesh(uv, F, levels):

@@ -1,1 +1,2 @@
-"""Layer 2: discrete operators, quality measures and point location on triangle meshes."""
+"""Layer 2: discrete operators, quality measures, point location and edits of planar
+triangulations on triangle meshes."""

@@ -1,0 +1,44 @@
+import numpy as np
+from scipy.spatial import Delaunay
+
+from conftest import delaunay_excess
+from qcremesh.geometry.operators import signed_doublearea
+from qcremesh.geometry.triangulation import delaunay_flips, flip_edges, insert_points
+
+
+def test_insert_points_splits_the_triangles_that_contain_them():
+    """Points inserted into the two triangles of the unit square, several into one of
+    them and one outside: each inside point adds two faces, all counter-clockwise, the
+    square's area stays tiled, the point outside is left out."""
+    uv = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0.6, 0.2], [0.7, 0.1], [0.8, 0.3], [0.2, 0.7], [2.0, 2.0]])
+    F = np.array([[0, 1, 2], [0, 2, 3]])
+    G = insert_points(uv, F, np.arange(4, 9))
+    assert len(G) == 2 + 2 * 4
+    assert sorted(np.unique(G)) == list(range(8))
+    assert np.all(signed_doublearea(uv, G) > 0)
+    np.testing.assert_allclose(signed_doublearea(uv, G).sum() / 2, 1.0)
+
+
+def test_flip_edges_stops_where_nothing_gains():
+    """A criterion that gains nowhere flips nothing; one that gains on every edge flips a
+    set of edges sharing no face in each round."""
+    F = Delaunay(np.random.default_rng(0).uniform(0, 1, (50, 2))).simplices
+    same, none = flip_edges(F, lambda F, f1, f2, a, b, c, d: -np.ones(len(a)), 10)
+    assert none == 0 and np.array_equal(same, F)
+    G, flips = flip_edges(F, lambda F, f1, f2, a, b, c, d: np.ones(len(a)), 1)
+    changed = np.flatnonzero(np.any(G != F, axis=1))
+    assert flips > 0 and len(changed) == 2 * flips
+
+
+def test_delaunay_flips_recover_the_delaunay_triangulation():
+    """Lawson's flips turn a valid but stretched triangulation (the Delaunay triangulation
+    of the points squeezed 5 times along y) into Qhull's Delaunay triangulation of
+    points in general position; a Delaunay triangulation stays as it is."""
+    uv = np.random.default_rng(1).uniform(0, 1, (200, 2))
+    F = Delaunay(uv * [1, 0.2]).simplices
+    assert delaunay_excess(uv, F) > 0.5
+    G = delaunay_flips(uv, F)
+    assert np.all(signed_doublearea(uv, G) > 0)
+    expected = Delaunay(uv).simplices
+    assert sorted(map(tuple, np.sort(G, 1))) == sorted(map(tuple, np.sort(expected, 1)))
+    np.testing.assert_array_equal(delaunay_flips(uv, G), G)
