@@ -85,3 +85,22 @@ def test_bowtie_message():
     with pytest.raises(v.NonManifoldError) as e:
         v.check_disk(V, F)
     assert str(e.value) == "1 non-manifold vertex (faces in several fans): 0"
+
+
+def test_foldover_edges_find_where_the_surface_overlaps_itself():
+    """A flat grid has no fold, nor does it bent by 90 degrees along a line; pushing one
+    interior vertex across its neighbours turns some of its faces over, and the edges
+    between those and the faces beside them (normals 180 degrees apart) are the folds."""
+    uv, F = grid_disk(8)
+    X = lift(uv)
+    assert len(v.foldover_edges(X, F)) == 0
+    bent = X.copy()
+    bent[:, 2] = np.maximum(uv[:, 0] - 0.5, 0)
+    bent[:, 0] = np.minimum(uv[:, 0], 0.5)
+    assert len(v.foldover_edges(bent, F)) == 0
+    centre = np.argmin(np.hypot(*(uv - 0.5).T))
+    ring = np.unique(F[np.any(F == centre, axis=1)])
+    X[centre, :2] += [0.3, 0.25]  # two grid steps across its neighbours
+    folds = v.foldover_edges(X, F)
+    assert len(folds) > 0
+    assert np.all(np.isin(folds, ring))

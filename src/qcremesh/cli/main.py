@@ -25,7 +25,8 @@ from pathlib import Path
 
 from .. import __version__
 from ..mesh.io import MeshReadError, read_mesh, write_mesh
-from ..mesh.validate import MeshError
+from ..mesh.topology import boundary_edges, edges
+from ..mesh.validate import MeshError, foldover_edges
 from ..param.disk import disk_conformal_map
 from ..remeshing.pipeline import METHODS
 
@@ -40,6 +41,26 @@ class CommandError(Exception):
 # narrowest arc (a strip 10 times as long as wide: 22 %, mean q 0.96 / 0.93 at its face
 # count / half; 12 times: 43 %, 0.83 / 0.82 with slivers; camel_b: 34 %).
 CROWDED_BOUNDARY_SHARE = 0.2
+
+
+# Both commands warn where more than this share of the input's interior edges turn by
+# more than 170 degrees (a surface that overlaps itself; human_face.obj: 0.004 %).
+FOLDOVER_SHARE = 0.01
+
+
+def _warn_foldovers(V, F):
+    """Warn about an input that folds back onto itself, which no check of its
+    connectivity finds (the remesh of a flat disk whose triangles were pushed across
+    each other has mean radius ratio 0.3-0.5)."""
+    folds = len(foldover_edges(V, F))
+    interior = len(edges(F)) - len(boundary_edges(F))
+    if folds > FOLDOVER_SHARE * interior:
+        print(
+            f"qcremesh: warning: the input folds back onto itself at {folds} of its {interior} interior edges "
+            "(their two faces turn by more than 170 degrees): it overlaps itself there, and the output follows "
+            "no consistent surface",
+            file=sys.stderr,
+        )
 
 
 def _warn_folded(folded):
@@ -172,6 +193,7 @@ def _remesh(args, out):
     for line in _quality_lines(quality):
         print(line, file=out)
     st = result.stats
+    _warn_foldovers(V, F)
     _warn_folded(st["param_folded_faces"])
     if st["param_narrowest_share"] > CROWDED_BOUNDARY_SHARE:
         print(
@@ -245,6 +267,7 @@ def _param(args, out):
         file=out,
     )
     print(f"boundary on the unit circle to {result.boundary_radius_error:.1e}", file=out)
+    _warn_foldovers(V, F)
     _warn_folded(result.folded_faces)
     stages = {"read": t_read, **result.times, "write": t_write}
     if args.plot:
