@@ -1,3 +1,6 @@
+import os
+import stat
+
 import numpy as np
 import pytest
 
@@ -61,6 +64,26 @@ def test_failed_write_leaves_no_file(tmp_path):
     with pytest.raises(ValueError, match="cannot write .xyz files"):
         write_mesh(tmp_path / "m.xyz", np.column_stack([uv, 0 * uv[:, 0]]), F)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_written_files_get_the_usual_permissions(tmp_path):
+    """The file written through a private temporary file gets the permissions the umask
+    gives a new file (they were 0600 whatever the umask), and a file it replaces keeps
+    its own."""
+    uv, F = grid_disk(4)
+    V = np.column_stack([uv, np.zeros(len(uv))])
+    umask = os.umask(0o022)
+    try:
+        write_mesh(tmp_path / "new.ply", V, F)
+        assert stat.S_IMODE((tmp_path / "new.ply").stat().st_mode) == 0o644
+        os.umask(0o007)
+        write_mesh(tmp_path / "group.obj", V, F)
+        assert stat.S_IMODE((tmp_path / "group.obj").stat().st_mode) == 0o660
+        (tmp_path / "new.ply").chmod(0o640)
+        write_mesh(tmp_path / "new.ply", V, F)
+        assert stat.S_IMODE((tmp_path / "new.ply").stat().st_mode) == 0o640
+    finally:
+        os.umask(umask)
 
 
 def test_read_errors(tmp_path):

@@ -162,13 +162,22 @@ def atomic_output(path):
 
     Yields the path of a temporary file in the same folder (with the same extension, so
     writers that choose the format by extension still work); on success it is renamed to
-    ``path``, on any error it is removed and ``path`` is left untouched.
+    ``path``, with the permissions of the file it replaces or, for a new file, those the
+    process's umask gives (the temporary file is private); on any error it is removed and
+    ``path`` is left untouched.
     """
     path = Path(path)
     fd, tmp = tempfile.mkstemp(suffix=path.suffix.lower(), prefix=".tmp-", dir=path.parent)
     os.close(fd)
     try:
         yield tmp
+        if path.exists():
+            mode = path.stat().st_mode & 0o7777
+        else:
+            umask = os.umask(0)
+            os.umask(umask)
+            mode = 0o666 & ~umask
+        os.chmod(tmp, mode)
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
