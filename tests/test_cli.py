@@ -54,6 +54,15 @@ def test_param_rejects_non_obj_output(tmp_path, capsys):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_param_rejects_a_plot_format_before_the_work(tmp_path, capsys):
+    """A figure format matplotlib cannot save is told at once, and nothing is written
+    (the map was written and a traceback followed)."""
+    plot = tmp_path / "p.xyz"
+    assert main(["param", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "d.obj"), "--plot", str(plot)]) == 1
+    assert capsys.readouterr().err.strip() == f"qcremesh: error: {plot}: cannot draw .xyz figures (png, pdf, svg, jpg, ...)"
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_remesh_cli_with_report(tmp_path, capsys):
     out = tmp_path / "re.ply"
     report = tmp_path / "report"
@@ -142,6 +151,12 @@ def test_remesh_cli_errors(tmp_path, capsys):
     assert capsys.readouterr().err.strip() == "qcremesh: error: --faces must be at least 4"
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "no" / "x.obj")]) == 1
     assert "does not exist" in capsys.readouterr().err
+    # an output format it cannot write is told before the remesh (it was a traceback after it)
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "x.xyz")]) == 1
+    assert capsys.readouterr().err.strip() == (
+        f"qcremesh: error: {tmp_path / 'x.xyz'}: cannot write .xyz files "
+        "(the extension names the format: .obj, .ply, .off, .stl, .vtk, .vtu, ...)"
+    )
     assert list(tmp_path.iterdir()) == []
 
 

@@ -24,7 +24,7 @@ import time
 from pathlib import Path
 
 from .. import __version__
-from ..mesh.io import MeshReadError, read_mesh, write_mesh
+from ..mesh.io import MeshReadError, check_writable, read_mesh, write_mesh
 from ..mesh.topology import boundary_edges, edges
 from ..mesh.validate import MeshError, foldover_edges
 from ..param.disk import disk_conformal_map
@@ -161,6 +161,10 @@ def _remesh(args, out):
     from ..remeshing.pipeline import remesh
 
     _check_output_folder(args.output)
+    try:
+        check_writable(args.output)
+    except ValueError as exc:
+        raise CommandError(f"{args.output}: {exc}") from exc
     if args.report and Path(args.report).exists() and not Path(args.report).is_dir():
         raise CommandError(f"{args.report}: exists and is not a folder")
     if args.faces is not None and args.faces < 4:
@@ -245,6 +249,13 @@ def _param(args, out):
     if Path(args.output).suffix.lower() != ".obj":
         raise CommandError(f"{args.output}: the parameterization is written as OBJ (use .obj)")
     _check_output_folder(args.output, args.plot)
+    if args.plot:
+        from .report import check_figure_path
+
+        try:
+            check_figure_path(args.plot)
+        except ValueError as exc:
+            raise CommandError(f"{args.plot}: {exc}") from exc
     t0 = time.perf_counter()
     V, F = read_mesh(args.input)
     t_read = time.perf_counter() - t0

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..mesh.io import atomic_output
 
-__all__ = ["plot_disk_map", "plot_radius_ratio", "plot_disk_levels", "write_remesh_report"]
+__all__ = ["check_figure_path", "plot_disk_map", "plot_radius_ratio", "plot_disk_levels", "write_remesh_report"]
 
 
 def _pyplot():
@@ -26,6 +26,19 @@ def _pyplot():
     import matplotlib.pyplot as plt
 
     return plt
+
+
+def check_figure_path(path):
+    """Raise ValueError unless matplotlib can save a figure in the format of ``path``'s
+    extension (ImportError without matplotlib), so that a caller can tell before the
+    work whose figure it draws."""
+    plt = _pyplot()
+    fig = plt.figure()
+    formats = fig.canvas.get_supported_filetypes()
+    plt.close(fig)
+    suffix = Path(path).suffix.lower().lstrip(".")
+    if suffix not in formats:
+        raise ValueError(f"cannot draw .{suffix} figures (png, pdf, svg, jpg, ...)")
 
 
 def _save(fig, path):

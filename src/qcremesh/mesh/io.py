@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["MeshReadError", "read_mesh", "write_mesh", "atomic_output"]
+__all__ = ["MeshReadError", "read_mesh", "write_mesh", "check_writable", "atomic_output"]
 
 
 class MeshReadError(ValueError):
@@ -139,6 +139,7 @@ def write_mesh(path, V, F, *, uv=None, data=None):
         Further per-vertex data (ignored by OBJ).
     """
     path = Path(path)
+    check_writable(path)
     V = np.asarray(V, dtype=np.float64)
     F = np.asarray(F, dtype=np.int64)
     if V.ndim != 2 or V.shape[1] not in (2, 3):
@@ -154,6 +155,18 @@ def write_mesh(path, V, F, *, uv=None, data=None):
             _write_obj(tmp, V, F, uv)
         else:
             _write_meshio(tmp, V, F, uv, data)
+
+
+def check_writable(path):
+    """Raise ValueError unless :func:`write_mesh` knows the format of ``path`` by its
+    extension (OBJ, or one of meshio's), so that a caller can tell before the work whose
+    result it writes."""
+    import meshio
+
+    name = Path(path).name.lower()
+    if not any(name.endswith(ext) for ext in (".obj", *meshio.extension_to_filetypes)):
+        what = f"{Path(path).suffix} files" if Path(path).suffix else "a file without an extension"
+        raise ValueError(f"cannot write {what} (the extension names the format: .obj, .ply, .off, .stl, .vtk, .vtu, ...)")
 
 
 @contextmanager
