@@ -71,7 +71,9 @@ def tube_disk(length, k=16, seed=0):
     rings += [(length + np.sin(a), np.cos(a)) for a in np.pi / 2 * np.arange(1, caps) / caps]
     t = 2 * np.pi * np.arange(k) / k
     turn = t + h / 2 * np.arange(len(rings))[:, None]
-    P = np.concatenate([np.column_stack([r * np.cos(s), r * np.sin(s), np.full(k, z)]) for s, (z, r) in zip(turn, rings)])
+    P = np.concatenate(
+        [np.column_stack([r * np.cos(s), r * np.sin(s), np.full(k, z)]) for s, (z, r) in zip(turn, rings)]
+    )
     P[k:] += 0.05 * h * np.random.default_rng(seed).standard_normal((len(P) - k, 3))
     a = np.arange(k)
     b = (a + 1) % k

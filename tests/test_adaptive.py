@@ -250,6 +250,25 @@ def test_delaunay_disk_mesh_keeps_crowded_interior_points():
     assert delaunay_excess(uv, F) < 1e-9
 
 
+def test_interior_points_no_triangle_contains_are_dropped():
+    """A point left out by Qhull that lies outside the triangulation (between a chord of
+    the boundary polygon and its arc; delaunay_disk_mesh's margin keeps such points out
+    before) is dropped rather than left as a vertex without faces; a crowded one inside
+    is inserted."""
+    from qcremesh.adaptive.basemesh import _include_every_point
+
+    t = 2 * np.pi * np.arange(8) / 8
+    mid = np.pi / 8
+    outside = [0.99 * np.cos(mid), 0.99 * np.sin(mid)]  # beyond the chord at cos(pi / 8)
+    uv = np.concatenate([np.column_stack([np.cos(t), np.sin(t)]), [outside, [0.1, 0.1], [0.1 + 1e-12, 0.1]]])
+    F = Delaunay(uv[[*range(8), 9]]).simplices
+    F = np.where(F == 8, 9, F)  # Qhull's triangulation of the boundary and the first inner point
+    F[signed_doublearea(uv, F) < 0] = F[signed_doublearea(uv, F) < 0][:, ::-1]
+    kept_uv, G = _include_every_point(uv, F, 8)
+    np.testing.assert_array_equal(kept_uv, uv[[*range(8), 9, 10]])
+    assert len(np.unique(G)) == 10 and np.all(signed_doublearea(kept_uv, G) > 0)
+
+
 def test_flips_raise_the_quality_on_a_stretched_surface():
     """The Delaunay triangulation of a disk whose image on the surface is stretched 4
     times along x (a map with |mu| = 0.6): flips raise the mean radius ratio of the

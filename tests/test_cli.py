@@ -59,7 +59,8 @@ def test_param_rejects_a_plot_format_before_the_work(tmp_path, capsys):
     (the map was written and a traceback followed)."""
     plot = tmp_path / "p.xyz"
     assert main(["param", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "d.obj"), "--plot", str(plot)]) == 1
-    assert capsys.readouterr().err.strip() == f"qcremesh: error: {plot}: cannot draw .xyz figures (png, pdf, svg, jpg, ...)"
+    err = capsys.readouterr().err.strip()
+    assert err == f"qcremesh: error: {plot}: cannot draw .xyz figures (png, pdf, svg, jpg, ...)"
     assert list(tmp_path.iterdir()) == []
 
 

@@ -63,10 +63,12 @@ def _include_every_point(uv, F, b):
     disk's size, where the disk map crowds the surface (the boundary at the end of a long
     strip, the far end of a long tube, about 1e-9 from the centre). A boundary point left
     out is put back into the triangle on the chord that skips it (split into a fan from
-    that triangle's third corner); interior points left out are inserted into the
-    triangles that contain them (:func:`~qcremesh.geometry.triangulation.insert_points`) and the edges flipped until the
-    triangulation is Delaunay again (:func:`~qcremesh.geometry.triangulation.delaunay_flips`), whose test on angles does
-    not depend on the scale."""
+    that triangle's third corner). Interior points left out are inserted into the
+    triangles that contain them (:func:`~qcremesh.geometry.triangulation.insert_points`)
+    and the edges flipped until the triangulation is Delaunay again
+    (:func:`~qcremesh.geometry.triangulation.delaunay_flips`, whose test on angles does
+    not depend on the scale); one that no triangle contains (on a chord, at rounding) is
+    dropped."""
     used = np.zeros(len(uv), dtype=bool)
     used[F.ravel()] = True
     if used.all():
@@ -90,7 +92,13 @@ def _include_every_point(uv, F, b):
     missing = np.flatnonzero(~used[b:]) + b
     if len(missing):
         F = delaunay_flips(uv, insert_points(uv, F, missing))
-    return uv, F
+    # An interior point that no triangle takes (on a chord, at rounding) is dropped.
+    kept = np.flatnonzero(np.isin(np.arange(n), F) | (np.arange(n) < b))
+    if len(kept) == n:
+        return uv, F
+    renumber = np.full(n, -1)
+    renumber[kept] = np.arange(len(kept))
+    return uv[kept], renumber[F]
 
 
 def flip_for_surface_quality(uv, F, X, flippable, rounds=50):

@@ -166,7 +166,9 @@ def check_writable(path):
     name = Path(path).name.lower()
     if not any(name.endswith(ext) for ext in (".obj", *meshio.extension_to_filetypes)):
         what = f"{Path(path).suffix} files" if Path(path).suffix else "a file without an extension"
-        raise ValueError(f"cannot write {what} (the extension names the format: .obj, .ply, .off, .stl, .vtk, .vtu, ...)")
+        raise ValueError(
+            f"cannot write {what} (the extension names the format: .obj, .ply, .off, .stl, .vtk, .vtu, ...)"
+        )
 
 
 @contextmanager
