@@ -102,3 +102,26 @@ def delaunay_excess(uv, F):
         return np.arctan2(np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]), (u * v).sum(1))
 
     return (angle(opposite[i], H[i, 0], H[i, 1]) + angle(opposite[j], H[i, 1], H[i, 0]) - np.pi).max()
+
+
+def split_vertex(V, F, v):
+    """Split interior vertex v into two at the same point (the inverse of collapsing an
+    edge of zero length): half of its fan goes to the new vertex, and two needles join
+    them."""
+    faces = np.flatnonzero(np.any(F == v, axis=1))
+    nxt = {}
+    for f in faces:
+        k = int(np.flatnonzero(F[f] == v)[0])
+        nxt[F[f, (k + 1) % 3]] = (F[f, (k + 2) % 3], f)
+    ring, fans = [next(iter(nxt))], []
+    while len(ring) <= len(nxt):
+        r, f = nxt[ring[-1]]
+        ring.append(r)
+        fans.append(f)
+    s = len(fans) // 2
+    w = len(V)
+    F = F.copy()
+    for f in fans[s:]:
+        F[f][F[f] == v] = w
+    needles = [[v, ring[s], w], [w, ring[0], v]]
+    return np.concatenate([V, V[v : v + 1]]), np.concatenate([F, needles])

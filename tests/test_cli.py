@@ -4,7 +4,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import DATA, grid_disk, shared, strip_disk, tube_disk
+from conftest import DATA, grid_disk, shared, split_vertex, strip_disk, tube_disk
 from qcremesh.cli.main import main
 from qcremesh.mesh.io import read_mesh, write_mesh
 
@@ -134,6 +134,22 @@ def test_cli_warns_when_the_input_overlaps_itself(tmp_path, capsys):
     assert message in capsys.readouterr().err
     assert main(["param", str(DATA / "human_face.obj"), "-o", str(tmp_path / "f.obj")]) == 0
     assert "warning" not in capsys.readouterr().err
+
+
+def test_remesh_cli_repairs_zero_area_faces(tmp_path, capsys):
+    """A grid with two vertices split in two at the same point (four faces of zero area,
+    which param refuses): remesh merges them back first and says so."""
+    uv, F = grid_disk(20, jitter=0.3)
+    V = np.column_stack([uv, 0.1 * uv[:, 0] ** 2])
+    for v in (150, 250):
+        V, F = split_vertex(V, F, v)
+    path = tmp_path / "needles.obj"
+    write_mesh(path, V, F)
+    assert main(["param", str(path), "-o", str(tmp_path / "d.obj")]) == 1
+    assert "4 degenerate faces (zero area or within rounding of it)" in capsys.readouterr().err
+    assert main(["remesh", str(path), "-o", str(tmp_path / "r.ply"), "--faces", "600"]) == 0
+    out = capsys.readouterr().out
+    assert "repaired the input first: 4 needles (an edge of zero length) merged, 0 caps" in out
 
 
 def test_remesh_cli_is_deterministic(tmp_path):

@@ -197,6 +197,12 @@ def _remesh(args, out):
     for line in _quality_lines(quality):
         print(line, file=out)
     st = result.stats
+    if "repaired_needles" in st:
+        print(
+            f"repaired the input first: {st['repaired_needles']} needles (an edge of zero length) merged, "
+            f"{st['repaired_caps']} caps (a corner on the opposite edge) flipped",
+            file=out,
+        )
     _warn_foldovers(V, F)
     _warn_folded(st["param_folded_faces"])
     if st["param_narrowest_share"] > CROWDED_BOUNDARY_SHARE:

@@ -38,7 +38,7 @@ class UnreferencedVertexError(MeshError):
 
 
 class DegenerateFaceError(MeshError):
-    """Faces with a repeated vertex or zero area."""
+    """Faces of zero area or within rounding of it (needles and caps)."""
 
 
 class NonManifoldError(MeshError):
@@ -97,7 +97,8 @@ def check_triangle_mesh(V, F):
     degen = topology.degenerate_faces(V, F)
     if len(degen):
         raise DegenerateFaceError(
-            f"{_plural(len(degen), 'degenerate face')} (zero area): {_some(map(str, degen))}"
+            f"{_plural(len(degen), 'degenerate face')} (zero area or within rounding of it): "
+            f"{_some(map(str, degen))}"
         )
     bad_edges = topology.nonmanifold_edges(F)
     if len(bad_edges):

@@ -49,8 +49,17 @@ from ..beltrami.teichmuller import teichmuller_map
 from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import doublearea
 from ..geometry.quality import radius_ratio
+from ..geometry.repair import repair_degenerate_faces
 from ..mesh.subdivide import upsample
-from ..mesh.topology import boundary_edges, boundary_loop
+from ..mesh.topology import (
+    boundary_edges,
+    boundary_loop,
+    inconsistent_edges,
+    needles_and_caps,
+    nonmanifold_edges,
+    nonmanifold_vertices,
+    unreferenced_vertices,
+)
 from ..param.disk import disk_conformal_map
 from .min_quality import QUALITY_FLOOR
 from .relax import relax_on_surface
@@ -170,6 +179,29 @@ def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
     return out
 
 
+def _repair(V, F, data, stats):
+    """The input with its needles and caps (faces of zero area or within rounding of it,
+    which have no shape for a conformal map to keep and which the validation refuses)
+    merged or flipped away, the surface moved by at most 1e-3 of an edge
+    (:func:`qcremesh.geometry.repair.repair_degenerate_faces`), and its per-vertex data
+    for the vertices kept; counted in ``stats``. Left alone where the validation has
+    another error to name (indices out of range, unreferenced vertices, non-manifold or
+    inconsistently oriented faces)."""
+    n = len(V)
+    if not (V.ndim == 2 and F.ndim == 2 and F.shape[1] == 3 and len(F) and F.min() >= 0 and F.max() < n):
+        return V, F, data
+    if len(unreferenced_vertices(F, n)) or not np.all(np.isfinite(V)):
+        return V, F, data
+    needle, cap = needles_and_caps(V, F)
+    if not (needle.any() or cap.any()):
+        return V, F, data
+    if len(nonmanifold_edges(F)) or len(nonmanifold_vertices(F)) or len(inconsistent_edges(F)):
+        return V, F, data  # the repair needs a manifold, oriented mesh
+    V, F, kept = repair_degenerate_faces(V, F)
+    stats.update(repaired_needles=int(needle.sum()), repaired_caps=int(cap.sum()))
+    return V, F, {k: np.asarray(v)[kept] for k, v in data.items()} if data else data
+
+
 def _plan(V, F, bnd, faces, levels):
     """Numbers of boundary and interior landmarks for ``faces`` output faces, the spacing
     of the boundary landmarks along the boundary, and the base mesh's face count wanted."""
@@ -199,6 +231,10 @@ def remesh(
     progress=None,
 ):
     """Remesh a disk-topology triangle mesh into a regular, semi-regular one.
+
+    Needles and caps of the input (faces of zero area or within rounding of it) are
+    merged or flipped away first, the surface kept (``stats["repaired_needles"]``,
+    ``stats["repaired_caps"]``).
 
     Parameters
     ----------
@@ -285,6 +321,7 @@ def remesh(
         times[name] = times.get(name, 0.0) + time.perf_counter() - started[name]
 
     stage("parameterize")
+    V, F, data = _repair(V, F, data, stats)
     dm = disk_conformal_map(V, F)
     stats.update(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces

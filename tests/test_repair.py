@@ -1,0 +1,64 @@
+import numpy as np
+import pytest
+
+from conftest import grid_disk, split_vertex
+from qcremesh.geometry.operators import doublearea
+from qcremesh.geometry.quality import radius_ratio
+from qcremesh.geometry.repair import repair_degenerate_faces
+from qcremesh.mesh.topology import boundary_loop, needles_and_caps
+from qcremesh.mesh.validate import DegenerateFaceError, check_disk, check_triangle_mesh
+from qcremesh.remeshing.pipeline import remesh
+
+
+def test_needles_are_merged_and_the_surface_kept():
+    """Three interior vertices split in two at the same point (six faces with an edge of
+    zero length, which the validation refuses): the repair merges them back, the faces
+    are those of the grid again."""
+    uv, F = grid_disk(10, jitter=0.3)
+    V = np.column_stack([uv, 0.2 * np.sin(3 * uv[:, 0])])
+    W, G = V, F
+    for v in (34, 45, 56):
+        W, G = split_vertex(W, G, v)
+    with pytest.raises(DegenerateFaceError, match="6 degenerate faces"):
+        check_triangle_mesh(W, G)
+    needle, cap = needles_and_caps(W, G)
+    assert needle.sum() == 6 and cap.sum() == 0
+    X, H, kept = repair_degenerate_faces(W, G)
+    np.testing.assert_array_equal(kept, np.arange(len(V)))
+    np.testing.assert_array_equal(X, V)
+    assert sorted(map(tuple, np.sort(H, 1))) == sorted(map(tuple, np.sort(F, 1)))
+    check_disk(X, H)
+
+
+def test_caps_are_flipped_inside_and_deleted_on_the_boundary():
+    """A flat face whose corner c lies on its edge ab: inside (a diamond a d b e), ab is
+    flipped with the face beyond it and c gets a fan of four faces; on the boundary (a
+    triangle a b e), the face goes and the boundary runs through c. The area stays."""
+    V = np.array([[0, 0, 0], [2, 0, 0], [1, 0, 0], [1, -1, 0], [1, 1, 0.0]])  # a b c d e
+    F = np.array([[0, 1, 2], [1, 0, 3], [0, 2, 4], [2, 1, 4]])
+    assert needles_and_caps(V, F)[1].tolist() == [True, False, False, False]
+    W, G, kept = repair_degenerate_faces(V, F)
+    assert len(G) == 4 and (G == 2).any(1).sum() == 4
+    assert not np.any(needles_and_caps(W, G)[1])
+    np.testing.assert_allclose(doublearea(W, G).sum(), 4.0)
+    check_disk(W, G)
+    V = V[[0, 1, 2, 4]]  # a b c e
+    F = np.array([[0, 1, 2], [0, 2, 3], [2, 1, 3]])
+    W, G, kept = repair_degenerate_faces(V, F)
+    assert len(G) == 2 and sorted(boundary_loop(G)) == [0, 1, 2, 3]
+    np.testing.assert_allclose(doublearea(W, G).sum(), 2.0)
+
+
+def test_remesh_repairs_its_input():
+    """remesh takes a mesh with needles (which the validation refuses), carries the
+    per-vertex data of the vertices kept, and counts what it repaired."""
+    uv, F = grid_disk(24, jitter=0.3)
+    V = np.column_stack([uv, 0.2 * np.sin(3 * uv[:, 0])])
+    W, G = V, F
+    for v in (100, 150, 300):
+        W, G = split_vertex(W, G, v)
+    r = remesh(W, G, faces=800, data={"height": W[:, 2]})
+    assert r.stats["repaired_needles"] == 6 and r.stats["repaired_caps"] == 0
+    check_disk(r.V, r.F)
+    np.testing.assert_allclose(r.data["height"], r.V[:, 2], atol=1e-12)
+    assert abs(len(r.F) - 800) <= 40 and radius_ratio(r.V, r.F).mean() >= 0.97
