@@ -104,3 +104,16 @@ def test_foldover_edges_find_where_the_surface_overlaps_itself():
     folds = v.foldover_edges(X, F)
     assert len(folds) > 0
     assert np.all(np.isin(folds, ring))
+
+
+def test_triangle_soup_is_told_to_be_welded():
+    """A mesh whose faces share no vertex (each with corners of its own, as some writers
+    export) gets the hint to weld them."""
+    uv, F = grid_disk(4)
+    V = lift(uv)[F].reshape(-1, 3)
+    with pytest.raises(v.TopologyError) as e:
+        v.check_disk(V, np.arange(len(V)).reshape(-1, 3))
+    assert str(e.value) == (
+        f"{len(F)} connected components, a disk has 1 (no two faces share a vertex: weld the coincident vertices first)"
+    )
+

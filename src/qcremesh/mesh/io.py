@@ -233,7 +233,10 @@ def _write_meshio(path, V, F, uv, data):
     if uv is not None:
         point_data["texture_u"] = uv[:, 0]
         point_data["texture_v"] = uv[:, 1]
-    mesh = meshio.Mesh(V, [("triangle", F)], point_data=point_data)
+    # 32-bit indices where they fit: PLY has no 64-bit integers, and meshio printed a
+    # warning on every PLY written.
+    cells = F.astype(np.int32) if len(V) < 2**31 else F
+    mesh = meshio.Mesh(V, [("triangle", cells)], point_data=point_data)
     try:
         meshio.write(path, mesh)
     except Exception as exc:

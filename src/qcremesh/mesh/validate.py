@@ -141,7 +141,9 @@ def check_disk(V, F):
     check_triangle_mesh(V, F)
     ncomp, _ = topology.connected_components(F, len(V))
     if ncomp != 1:
-        raise TopologyError(f"{ncomp} connected components, a disk has 1")
+        soup = np.bincount(np.asarray(F).ravel()).max() == 1
+        hint = " (no two faces share a vertex: weld the coincident vertices first)" if soup else ""
+        raise TopologyError(f"{ncomp} connected components, a disk has 1{hint}")
     loops = topology.boundary_loops(F)
     if len(loops) == 0:
         raise TopologyError("closed surface (no boundary), a disk has 1 boundary loop")
