@@ -48,6 +48,18 @@ def test_param_error_is_one_line_and_writes_nothing(tmp_path, mesh, message):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_summary_into_a_closed_pipe_ends_quietly(tmp_path):
+    """`qcremesh remesh ... | head` where the reader has gone: the output file is written,
+    and no traceback follows (there was one, BrokenPipeError)."""
+    out = tmp_path / "r.ply"
+    command = [sys.executable, "-m", "qcremesh.cli.main", "remesh", str(DATA / "fran_cut.ply"), "-o", str(out)]
+    proc = subprocess.Popen(command + ["--faces", "500"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc.stdout.close()  # nobody reads the summary
+    err = proc.stderr.read().decode()
+    proc.wait()
+    assert "Traceback" not in err and out.is_file()
+
+
 def test_param_rejects_non_obj_output(tmp_path, capsys):
     assert main(["param", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "x.ply")]) == 1
     assert "written as OBJ" in capsys.readouterr().err

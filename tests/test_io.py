@@ -87,13 +87,26 @@ def test_written_files_get_the_usual_permissions(tmp_path):
         os.umask(umask)
 
 
+def test_quads_are_split_along_their_shorter_diagonal(tmp_path):
+    """Two quads, one whose diagonal 0-2 is the shorter (1.41 against 2.12), a kite whose
+    diagonal 5-7 is (0.2 against 2); each becomes two triangles, in order, oriented as
+    the quad."""
+    path = tmp_path / "quads.obj"
+    path.write_text(
+        "v 0 0 0\nv 1.5 0 0\nv 1 1 0\nv 0 1.5 0\nv 2 0.5 0\nv 3 0.4 0\nv 4 0.5 0\nv 3 0.6 0\n"
+        "f 1 2 3 4\nf 5 6 7 8\n"
+    )
+    V, F = read_mesh(path)
+    np.testing.assert_array_equal(F, [[0, 1, 2], [0, 2, 3], [4, 5, 7], [5, 6, 7]])
+
+
 def test_read_errors(tmp_path):
     with pytest.raises(MeshReadError, match="no such file"):
         read_mesh(tmp_path / "missing.obj")
-    quad = tmp_path / "quad.obj"
-    quad.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n")
-    with pytest.raises(MeshReadError, match="not a triangle mesh"):
-        read_mesh(quad)
+    pentagon = tmp_path / "pentagon.obj"
+    pentagon.write_text("v 0 0 0\nv 1 0 0\nv 1.5 1 0\nv 0.5 1.5 0\nv -0.5 1 0\nf 1 2 3 4 5\n")
+    with pytest.raises(MeshReadError, match="not a triangle mesh \\(has polygon cells\\)"):
+        read_mesh(pentagon)
     junk = tmp_path / "junk.ply"
     junk.write_text("not a ply file\n")
     with pytest.raises(MeshReadError, match="cannot read"):

@@ -19,6 +19,7 @@ stderr, the exit status is 1, and no output file is written.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
@@ -304,6 +305,11 @@ def main(argv=None):
         {"param": _param, "remesh": _remesh, "quality": _quality}[args.command](args, sys.stdout)
     except (CommandError, MeshReadError, ImportError) as exc:
         print(f"qcremesh: error: {exc}", file=sys.stderr)
+        return 1
+    except BrokenPipeError:
+        # The reader of the summary went away (`qcremesh ... | head`): the output files
+        # are written by then; stop quietly, also at the interpreter's final flush.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
     return 0
 

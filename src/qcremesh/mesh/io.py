@@ -24,7 +24,8 @@ class MeshReadError(ValueError):
 
 
 def read_mesh(path, *, return_data=False):
-    """Read a triangle mesh.
+    """Read a triangle mesh; quads are split into two triangles along their shorter
+    diagonal.
 
     Parameters
     ----------
@@ -46,7 +47,8 @@ def read_mesh(path, *, return_data=False):
     Raises
     ------
     MeshReadError
-        The file is missing, unreadable, or holds no triangles (or holds other polygons).
+        The file is missing, unreadable, or holds no triangles (or holds polygons other
+        than triangles and quads).
     """
     path = Path(path)
     if not path.is_file():
@@ -78,7 +80,8 @@ def _read_meshio(path):
     except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
         raise MeshReadError(f"{path}: cannot read ({exc})") from exc
     tri = [c.data for c in m.cells if c.type == "triangle"]
-    other = sorted({c.type for c in m.cells if c.type not in ("triangle", "vertex", "line")})
+    tri += [_split_quads(m.points, c.data) for c in m.cells if c.type == "quad"]
+    other = sorted({c.type for c in m.cells if c.type not in ("triangle", "quad", "vertex", "line")})
     if other:
         raise MeshReadError(f"{path}: not a triangle mesh (has {', '.join(other)} cells)")
     if not tri:
@@ -93,6 +96,16 @@ def _read_meshio(path):
     if "obj:vt" in data:
         data["uv"] = np.asarray(data.pop("obj:vt"))[:, :2]
     return m.points, np.concatenate(tri), data
+
+
+def _split_quads(P, Q):
+    """Two triangles per quad (a, b, c, d), split along its shorter diagonal, (2 q, 3)."""
+    P = np.asarray(P, dtype=np.float64)
+    a, b, c, d = np.asarray(Q, dtype=np.int64).T
+    ac = np.linalg.norm(P[c] - P[a], axis=1) <= np.linalg.norm(P[d] - P[b], axis=1)
+    first = np.where(ac[:, None], np.column_stack([a, b, c]), np.column_stack([a, b, d]))
+    second = np.where(ac[:, None], np.column_stack([a, c, d]), np.column_stack([b, c, d]))
+    return np.stack([first, second], axis=1).reshape(-1, 3)
 
 
 def _read_mat(path):
