@@ -60,6 +60,19 @@ def test_summary_into_a_closed_pipe_ends_quietly(tmp_path):
     assert "Traceback" not in err and out.is_file()
 
 
+def test_interrupt_ends_with_one_line_and_no_partial_file(tmp_path, capsys, monkeypatch):
+    """Ctrl-C during the remesh: status 130, one line instead of a traceback, no file."""
+    import qcremesh.remeshing.pipeline as pipeline
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(pipeline, "remesh", interrupted)
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "r.ply")]) == 130
+    assert capsys.readouterr().err == "qcremesh: interrupted; no partial output was written\n"
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_param_rejects_non_obj_output(tmp_path, capsys):
     assert main(["param", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "x.ply")]) == 1
     assert "written as OBJ" in capsys.readouterr().err

@@ -306,6 +306,9 @@ def main(argv=None):
     except (CommandError, MeshReadError, ImportError) as exc:
         print(f"qcremesh: error: {exc}", file=sys.stderr)
         return 1
+    except KeyboardInterrupt:
+        print("qcremesh: interrupted; no partial output was written", file=sys.stderr)
+        return 130
     except BrokenPipeError:
         # The reader of the summary went away (`qcremesh ... | head`): the output files
         # are written by then; stop quietly, also at the interpreter's final flush.
