@@ -6,7 +6,7 @@ from qcremesh.geometry.operators import doublearea
 from qcremesh.geometry.quality import radius_ratio
 from qcremesh.geometry.repair import repair_degenerate_faces
 from qcremesh.mesh.topology import boundary_loop, needles_and_caps
-from qcremesh.mesh.validate import DegenerateFaceError, check_disk, check_triangle_mesh
+from qcremesh.mesh.validate import DegenerateFaceError, OrientationError, check_disk, check_triangle_mesh
 from qcremesh.remeshing.pipeline import remesh
 
 
@@ -62,3 +62,34 @@ def test_remesh_repairs_its_input():
     check_disk(r.V, r.F)
     np.testing.assert_allclose(r.data["height"], r.V[:, 2], atol=1e-12)
     assert abs(len(r.F) - 800) <= 40 and radius_ratio(r.V, r.F).mean() >= 0.97
+
+
+def test_remesh_orients_the_faces_of_its_input():
+    """A bent grid with a third of its faces reversed (which the validation refuses): the
+    faces are turned back to the majority's orientation first, and the output has the
+    orientation of the unspoilt grid."""
+    uv, F = grid_disk(16, jitter=0.3)
+    V = np.column_stack([uv, 0.2 * np.sin(3 * uv[:, 0])])
+    turned = np.random.default_rng(0).random(len(F)) < 0.3
+    G = F.copy()
+    G[turned] = G[turned][:, ::-1]
+    with pytest.raises(OrientationError):
+        check_triangle_mesh(V, G)
+    r = remesh(V, G, faces=400)
+    assert r.stats["reoriented_faces"] == turned.sum()
+    check_disk(r.V, r.F)
+    # the output's normals point the same way as the grid's (up, +z, mostly)
+    normals = np.cross(r.V[r.F[:, 1]] - r.V[r.F[:, 0]], r.V[r.F[:, 2]] - r.V[r.F[:, 0]])
+    grid_normals = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    assert np.sign(normals[:, 2].sum()) == np.sign(grid_normals[:, 2].sum())
+
+
+def test_orient_faces_refuses_a_moebius_strip():
+    """The faces of a Moebius strip cannot be oriented consistently."""
+    from qcremesh.mesh.topology import orient_faces
+
+    n = 12  # vertices 0..n-1 along one rail, n..2n-1 along the other, joined with a half twist
+    quads = [[i, (i + 1) % n, n + (i + 1) % n, n + i] for i in range(n - 1)] + [[n - 1, n, 0, 2 * n - 1]]
+    F = np.array([f for a, b, c, d in quads for f in ([a, b, c], [a, c, d])])
+    with pytest.raises(ValueError, match="not orientable"):
+        orient_faces(F)

@@ -89,3 +89,20 @@ def test_twin_half_edges():
     i, j = t.twin_half_edges(F)
     assert len(i) == len(j) == 1
     assert sorted(H[i[0]]) == sorted(H[j[0]]) == [1, 2] and {i[0] % 2, j[0] % 2} == {0, 1}
+
+
+def test_orient_faces_reverses_the_minority():
+    """A grid with 30 % of its faces reversed: exactly those are turned back; with 70 %
+    reversed, the others are (the majority's orientation wins)."""
+    from conftest import grid_disk
+
+    _, F = grid_disk(8)
+    turned = np.random.default_rng(0).random(len(F)) < 0.3
+    G = F.copy()
+    G[turned] = G[turned][:, ::-1]
+    H, reversed_ = t.orient_faces(G)
+    np.testing.assert_array_equal(reversed_, turned)
+    np.testing.assert_array_equal(H, F)
+    H, reversed_ = t.orient_faces(np.where(turned[:, None], F, F[:, ::-1]))
+    np.testing.assert_array_equal(reversed_, turned)
+    np.testing.assert_array_equal(H, F[:, ::-1])

@@ -198,12 +198,16 @@ def _remesh(args, out):
     for line in _quality_lines(quality):
         print(line, file=out)
     st = result.stats
+    mended = []
+    if "reoriented_faces" in st:
+        mended.append(f"{st['reoriented_faces']} faces turned against their neighbours reversed")
     if "repaired_needles" in st:
-        print(
-            f"repaired the input first: {st['repaired_needles']} needles (an edge of zero length) merged, "
-            f"{st['repaired_caps']} caps (a corner on the opposite edge) flipped",
-            file=out,
+        mended.append(
+            f"{st['repaired_needles']} needles (an edge of zero length) merged, "
+            f"{st['repaired_caps']} caps (a corner on the opposite edge) flipped"
         )
+    if mended:
+        print("repaired the input first: " + "; ".join(mended), file=out)
     _warn_foldovers(V, F)
     _warn_folded(st["param_folded_faces"])
     if st["param_narrowest_share"] > CROWDED_BOUNDARY_SHARE:

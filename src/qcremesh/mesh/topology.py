@@ -24,6 +24,7 @@ __all__ = [
     "nonmanifold_edges",
     "nonmanifold_vertices",
     "inconsistent_edges",
+    "orient_faces",
     "unreferenced_vertices",
     "needles_and_caps",
     "degenerate_faces",
@@ -291,6 +292,57 @@ def inconsistent_edges(F):
     directed, count = np.unique(H[:, 0] * n + H[:, 1], return_counts=True)
     bad = _keys_to_edges(directed[count > 1], n)
     return np.unique(_keys_to_edges(_edge_keys(bad, n), n), axis=0) if len(bad) else bad
+
+
+def orient_faces(F):
+    """Orient the faces of an orientable, edge-manifold mesh consistently: in each
+    connected surface, the faces turned against the majority of their component are
+    reversed.
+
+    Faces sharing an edge agree when they traverse it in opposite directions. The
+    orientations are solved for all faces at once as connected components of a graph on
+    two copies of the faces (kept, reversed): agreeing neighbours link kept to kept and
+    reversed to reversed, disagreeing ones kept to reversed.
+
+    Parameters
+    ----------
+    F : (m, 3) int
+
+    Returns
+    -------
+    F : (m, 3) int64
+        The faces, some reversed.
+    reversed : (m,) bool
+        Which.
+
+    Raises
+    ------
+    ValueError
+        The mesh is not orientable (a Moebius strip).
+    """
+    F = np.asarray(F, dtype=np.int64)
+    m = len(F)
+    H = half_edges(F)
+    i, j = _edge_pairs(_edge_keys(H, int(F.max()) + 1))
+    f, g = i % m, j % m
+    same = H[i, 0] == H[j, 0]  # traversed in the same direction: they disagree
+    rows = np.concatenate([f, f + m])
+    cols = np.concatenate([np.where(same, g + m, g), np.where(same, g, g + m)])
+    graph = sp.coo_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(2 * m, 2 * m))
+    _, label = _cc(graph, directed=False)
+    if np.any(label[:m] == label[m:]):
+        raise ValueError("the mesh is not orientable")
+    # Faces whose kept copy is in the same class as their component's first face's keep
+    # its orientation; flip the others, or these if they are fewer.
+    _, component = _cc(sp.coo_matrix((np.ones(len(f)), (f, g)), shape=(m, m)), directed=False)
+    first = np.full(component.max() + 1, m)
+    np.minimum.at(first, component, np.arange(m))
+    flip = label[:m] != label[first[component]]
+    flipped_share = np.bincount(component, flip) / np.bincount(component)
+    flip ^= flipped_share[component] > 0.5
+    F = F.copy()
+    F[flip] = F[flip][:, ::-1]
+    return F, flip
 
 
 def unreferenced_vertices(F, n):

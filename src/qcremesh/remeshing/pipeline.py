@@ -58,8 +58,10 @@ from ..mesh.topology import (
     needles_and_caps,
     nonmanifold_edges,
     nonmanifold_vertices,
+    orient_faces,
     unreferenced_vertices,
 )
+from ..mesh.validate import DegenerateFaceError, OrientationError
 from ..param.disk import disk_conformal_map
 from .min_quality import QUALITY_FLOOR
 from .relax import relax_on_surface
@@ -180,26 +182,32 @@ def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
 
 
 def _repair(V, F, data, stats):
-    """The input with its needles and caps (faces of zero area or within rounding of it,
-    which have no shape for a conformal map to keep and which the validation refuses)
-    merged or flipped away, the surface moved by at most 1e-3 of an edge
-    (:func:`qcremesh.geometry.repair.repair_degenerate_faces`), and its per-vertex data
-    for the vertices kept; counted in ``stats``. Left alone where the validation has
-    another error to name (indices out of range, unreferenced vertices, non-manifold or
-    inconsistently oriented faces)."""
+    """The input made acceptable to the disk map where the validation refused it for
+    what can be mended without moving the surface (more than 1e-3 of an edge): faces
+    turned against their neighbours are reversed (:func:`qcremesh.mesh.topology.orient_faces`,
+    the majority's orientation kept), needles merged and caps flipped away
+    (:func:`qcremesh.geometry.repair.repair_degenerate_faces`). Returns the new vertices,
+    faces and per-vertex data (of the vertices kept), counting what was done in
+    ``stats``; None where nothing applies or another defect stands first (non-manifold
+    edges or vertices, unreferenced vertices), which the validation then names."""
     n = len(V)
-    if not (V.ndim == 2 and F.ndim == 2 and F.shape[1] == 3 and len(F) and F.min() >= 0 and F.max() < n):
-        return V, F, data
-    if len(unreferenced_vertices(F, n)) or not np.all(np.isfinite(V)):
-        return V, F, data
+    if len(unreferenced_vertices(F, n)) or len(nonmanifold_edges(F)) or len(nonmanifold_vertices(F)):
+        return None
+    repaired = False
+    if len(inconsistent_edges(F)):
+        try:
+            F, turned = orient_faces(F)
+        except ValueError:
+            return None
+        stats["reoriented_faces"] = int(turned.sum())
+        repaired = True
     needle, cap = needles_and_caps(V, F)
-    if not (needle.any() or cap.any()):
-        return V, F, data
-    if len(nonmanifold_edges(F)) or len(nonmanifold_vertices(F)) or len(inconsistent_edges(F)):
-        return V, F, data  # the repair needs a manifold, oriented mesh
-    V, F, kept = repair_degenerate_faces(V, F)
-    stats.update(repaired_needles=int(needle.sum()), repaired_caps=int(cap.sum()))
-    return V, F, {k: np.asarray(v)[kept] for k, v in data.items()} if data else data
+    if needle.any() or cap.any():
+        V, F, kept = repair_degenerate_faces(V, F)
+        data = {k: np.asarray(v)[kept] for k, v in data.items()} if data else data
+        stats.update(repaired_needles=int(needle.sum()), repaired_caps=int(cap.sum()))
+        repaired = True
+    return (V, F, data) if repaired else None
 
 
 def _plan(V, F, bnd, faces, levels):
@@ -232,9 +240,11 @@ def remesh(
 ):
     """Remesh a disk-topology triangle mesh into a regular, semi-regular one.
 
-    Needles and caps of the input (faces of zero area or within rounding of it) are
-    merged or flipped away first, the surface kept (``stats["repaired_needles"]``,
-    ``stats["repaired_caps"]``).
+    Where the validation refuses the input for faces turned against their neighbours, or
+    for needles and caps (faces of zero area or within rounding of it), these are mended
+    first, the surface kept: faces reversed to the majority's orientation
+    (``stats["reoriented_faces"]``), needles merged and caps flipped away
+    (``stats["repaired_needles"]``, ``stats["repaired_caps"]``).
 
     Parameters
     ----------
@@ -321,8 +331,14 @@ def remesh(
         times[name] = times.get(name, 0.0) + time.perf_counter() - started[name]
 
     stage("parameterize")
-    V, F, data = _repair(V, F, data, stats)
-    dm = disk_conformal_map(V, F)
+    try:
+        dm = disk_conformal_map(V, F)
+    except (OrientationError, DegenerateFaceError) as error:
+        repaired = _repair(V, F, data, stats)
+        if repaired is None:
+            raise error
+        V, F, data = repaired
+        dm = disk_conformal_map(V, F)
     stats.update(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces
     )
