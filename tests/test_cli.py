@@ -177,6 +177,20 @@ def test_remesh_cli_repairs_zero_area_faces(tmp_path, capsys):
     assert "repaired the input first: 4 needles (an edge of zero length) merged, 0 caps" in out
 
 
+def test_remesh_cli_orients_the_input_and_warns_of_no_fold(tmp_path, capsys):
+    """fran_cut with a fifth of its faces reversed: remesh turns them back, says so, and
+    does not take the reversed faces for folds of the surface."""
+    V, F = read_mesh(DATA / "fran_cut.ply")
+    turned = np.random.default_rng(1).random(len(F)) < 0.2
+    F[turned] = F[turned][:, ::-1]
+    path = tmp_path / "turned.obj"
+    write_mesh(path, V, F)
+    assert main(["remesh", str(path), "-o", str(tmp_path / "r.obj"), "--faces", "2000"]) == 0
+    captured = capsys.readouterr()
+    assert f"repaired the input first: {turned.sum()} faces turned against their neighbours reversed" in captured.out
+    assert "warning" not in captured.err
+
+
 def test_remesh_cli_is_deterministic(tmp_path):
     args = ["remesh", str(DATA / "fran_cut.ply"), "--faces", "1500", "--method", "subdivided", "--seed", "7"]
     assert main(args + ["-o", str(tmp_path / "a.obj")]) == 0
