@@ -380,7 +380,8 @@ def cvt_landmarks(
     # below the distance to the nearest other sample, which is 1e-13 where the disk map
     # squeezes the far end of a long tube.
     pick = rng.choice(len(samples), size=count, replace=False, p=mass / mass.sum())
-    spacing_at = cKDTree(samples).query(samples[pick], k=2)[0][:, 1] if count else np.zeros(0)
+    sample_tree = cKDTree(samples)
+    spacing_at = sample_tree.query(samples[pick], k=2)[0][:, 1] if count else np.zeros(0)
     jitter = np.minimum(1e-9, 1e-3 * spacing_at)[:, None]
     points = samples[pick] + jitter * rng.standard_normal((count, 2))
     nfix = len(fixed)
@@ -393,7 +394,6 @@ def cvt_landmarks(
     else:
         positions = np.asarray(positions, dtype=np.float64)
         fixed_positions = np.asarray(fixed_positions, dtype=np.float64).reshape(nfix, positions.shape[1])
-        sample_tree = cKDTree(samples)
         positions_in_input_order = positions  # as sample_tree numbers the samples
         # The samples in the tree's order, so that neighbouring queries of the cells are
         # neighbours in memory (landmark stage on hand.ply 1.12 -> 1.03 s).
