@@ -26,7 +26,7 @@ from pathlib import Path
 
 from .. import __version__
 from ..mesh.io import MeshReadError, check_writable, read_mesh, write_mesh
-from ..mesh.topology import boundary_edges, edges, inconsistent_edges, orient_faces
+from ..mesh.topology import boundary_edges, edges, orient_faces
 from ..mesh.validate import MeshError, foldover_edges
 from ..param.disk import disk_conformal_map
 from ..remeshing.pipeline import METHODS
@@ -52,9 +52,7 @@ FOLDOVER_SHARE = 0.01
 def _warn_foldovers(V, F):
     """Warn about an input that folds back onto itself, which no check of its
     connectivity finds (the remesh of a flat disk whose triangles were pushed across
-    each other has mean radius ratio 0.3-0.5)."""
-    if len(inconsistent_edges(F)):  # remesh reversed the faces turned against the others
-        F = orient_faces(F)[0]
+    each other has mean radius ratio 0.3-0.5). ``F`` consistently oriented."""
     folds = len(foldover_edges(V, F))
     interior = len(edges(F)) - len(boundary_edges(F))
     if folds > FOLDOVER_SHARE * interior:
@@ -210,7 +208,8 @@ def _remesh(args, out):
         )
     if mended:
         print("repaired the input first: " + "; ".join(mended), file=out)
-    _warn_foldovers(V, F)
+    # the faces as remesh oriented them, where it reversed some turned against the others
+    _warn_foldovers(V, orient_faces(F)[0] if "reoriented_faces" in st else F)
     _warn_folded(st["param_folded_faces"])
     if st["param_narrowest_share"] > CROWDED_BOUNDARY_SHARE:
         print(

@@ -19,23 +19,16 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from ..mesh.topology import boundary_edges, half_edges, needles_and_caps, twin_half_edges
+from ..mesh.topology import boundary_edges, face_edge_lengths, half_edges, needles_and_caps, twin_half_edges
 from .triangulation import flip_edges
 
 __all__ = ["repair_degenerate_faces"]
 
 
-def _edge_lengths(V, F):
-    """Lengths of the edges of every face, (m, 3): column k is the edge from corner k to
-    corner k + 1."""
-    P = V[F]
-    return np.linalg.norm(np.roll(P, -1, axis=1) - P, axis=2)
-
-
 def _merge_needles(V, F, needles):
     """Merge the two corners of the shortest edge of each needle (the smallest index
     stays), and drop the faces left with a repeated corner."""
-    L = _edge_lengths(V, F[needles])
+    L = face_edge_lengths(V, F[needles])
     k = L.argmin(1)
     u, v = F[needles, k], F[needles, (k + 1) % 3]
     n = len(V)
@@ -54,7 +47,7 @@ def _flip_caps(V, F, caps):
     m = len(F)
     is_cap = np.zeros(m, dtype=bool)
     is_cap[caps] = True
-    longest = _edge_lengths(V, F).argmax(1)
+    longest = face_edge_lengths(V, F).argmax(1)
 
     def gain(F, f1, f2, a, b, c, d):
         k1 = np.argmax(F[f1] == a[:, None], axis=1)  # edge (a, b) is edge k1 of f1
@@ -72,7 +65,7 @@ def _flip_caps(V, F, caps):
     paired = np.zeros(len(H), dtype=bool)
     paired[i] = paired[j] = True
     caps = np.flatnonzero(needles_and_caps(V, F)[1])
-    longest = _edge_lengths(V, F[caps]).argmax(1)
+    longest = face_edge_lengths(V, F[caps]).argmax(1)
     on_boundary = ~paired[longest * len(F) + caps]
     corner = F[caps, (longest + 2) % 3]
     boundary_vertex = np.zeros(len(V), dtype=bool)

@@ -26,6 +26,7 @@ __all__ = [
     "inconsistent_edges",
     "orient_faces",
     "unreferenced_vertices",
+    "face_edge_lengths",
     "needles_and_caps",
     "degenerate_faces",
     "adjacency_matrix",
@@ -323,7 +324,7 @@ def orient_faces(F):
     F = np.asarray(F, dtype=np.int64)
     m = len(F)
     H = half_edges(F)
-    i, j = _edge_pairs(_edge_keys(H, int(F.max()) + 1))
+    i, j = twin_half_edges(F)
     f, g = i % m, j % m
     same = H[i, 0] == H[j, 0]  # traversed in the same direction: they disagree
     rows = np.concatenate([f, f + m])
@@ -363,6 +364,13 @@ NEEDLE = 1e-6
 CAP_ANGLE = 179.8
 
 
+def face_edge_lengths(V, F):
+    """Lengths of the edges of every face, (m, 3): column k is the edge from corner k to
+    corner k + 1 (the order of :func:`half_edges`)."""
+    P = np.asarray(V, dtype=np.float64)[np.asarray(F)]
+    return np.linalg.norm(np.roll(P, -1, axis=1) - P, axis=2)
+
+
 def needles_and_caps(V, F):
     """The needles and the caps among the faces of a mesh (faces with a repeated corner
     are needles).
@@ -378,10 +386,7 @@ def needles_and_caps(V, F):
         Faces whose shortest edge is at most ``NEEDLE`` times their longest; the others
         with an angle of at least ``CAP_ANGLE`` degrees.
     """
-    V = np.asarray(V, dtype=np.float64)
-    F = np.asarray(F)
-    P = V[F]
-    L = np.linalg.norm(np.roll(P, -1, axis=1) - P, axis=2)  # column k: corner k to k + 1
+    L = face_edge_lengths(V, F)
     needle = L.min(1) <= NEEDLE * L.max(1)
     k = L.argmax(1)
     rows = np.arange(len(F))
