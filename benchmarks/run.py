@@ -261,7 +261,7 @@ def seed_rows(meshes, args):
     """qcremesh with each of SEEDS at half the input's face count (where the Hausdorff
     distance on human_face spreads most)."""
     names = QUICK_MESHES[:1] if args.quick else SEED_MESHES
-    variants = [{"method": "subdivided", "relax": 40, "seed": seed} for seed in SEEDS]
+    variants = [{"method": "teichmuller", "relax": 40, "seed": seed} for seed in SEEDS]
     return variant_rows(meshes, names, True, variants, args)
 
 

@@ -231,3 +231,15 @@ def test_cells_far_from_equal_mean_fewer_levels():
     far = r.V[r.F].mean(1)[:, 2] > 20
     assert 0.45 < far.mean() < 0.55
     assert radius_ratio(r.V, r.F).mean() >= 0.97
+
+
+def test_default_method_is_the_teichmuller_map(fran, fran_result):
+    """By default the Teichmueller map of the level below the output starts the
+    relaxation; its coefficient is carried to the four children of each face."""
+    r = fran_result
+    assert r.stats["levels"] == 2 and 0 < r.stats["teichmuller_k"] < 1
+    assert r.mu.shape == (len(r.F),)
+    np.testing.assert_array_equal(r.mu.reshape(-1, 4), np.repeat(r.mu[::4, None], 4, axis=1))
+    V, F, data = fran
+    subdivided = remesh(V, F, data=data, seed=3, method="subdivided")
+    assert subdivided.mu is None and subdivided.V.tobytes() != r.V.tobytes()

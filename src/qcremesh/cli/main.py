@@ -103,7 +103,7 @@ def _parser():
     r.add_argument("-o", "--output", required=True, help="output mesh; the format follows the extension")
     r.add_argument("--faces", type=int, help="number of output faces (default: the input's)")
     r.add_argument("--levels", type=int, default=2, help="subdivision levels above the base mesh (default 2)")
-    r.add_argument("--method", choices=METHODS, default="subdivided", help="the pipeline or one of its ablations (default subdivided)")
+    r.add_argument("--method", choices=METHODS, default="teichmuller", help="the pipeline or one of its ablations (default teichmuller)")
     r.add_argument("--seed", type=int, default=0, help="seed of the landmark initialization (default 0)")
     r.add_argument(
         "--relax", type=int, default=40, metavar="K", help="tangential relaxation sweeps on the surface (0: the paper's pipeline alone; default 40)"

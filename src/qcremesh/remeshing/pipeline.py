@@ -12,17 +12,19 @@ with projection back onto the surface).
 5. Subdivision: ``levels`` times 1-to-4, new boundary vertices on the circle.
 6. Teichmueller map: the landmark-matching Teichmueller map of the subdivided mesh, by
    the QC iteration started from the linear subdivision, with each face measured against
-   an equilateral triangle (see :mod:`qcremesh.beltrami.teichmuller`).
+   an equilateral triangle (see :mod:`qcremesh.beltrami.teichmuller`). With the
+   relaxation of step 8, which goes coarse to fine, the map is that of the level below
+   the output, whose subdivision the relaxation finishes.
 7. Projection: every vertex of the adaptive disk mesh is located in the parameterization
    and its position interpolated barycentrically on the input surface; boundary vertices
    are interpolated along the input boundary polyline.
-8. Beyond the paper, optional (``relax``): tangential relaxation on the surface and a
-   search that raises the minimum quality (:mod:`qcremesh.remeshing.relax`).
+8. Beyond the paper, optional (``relax``, on by default): tangential relaxation on the
+   surface and a search that raises the minimum quality (:mod:`qcremesh.remeshing.relax`).
 
 The ablations of the paper are the ``method`` option: ``"uniform"`` (a regular mesh of the
 disk projected as is, Fig. 7), ``"base"`` (the base mesh only), ``"subdivided"`` (steps 1-5
 without the Teichmueller map, Figs. 18-20 (c)) and ``"teichmuller"`` (all steps,
-Figs. 18-20 (d)).
+Figs. 18-20 (d), the default).
 """
 
 from __future__ import annotations
@@ -228,7 +230,7 @@ def remesh(
     faces=None,
     *,
     levels=2,
-    method="subdivided",
+    method="teichmuller",
     seed=0,
     corner_angle=45.0,
     cvt_iterations=10,
@@ -264,11 +266,12 @@ def remesh(
         near the boundary, or boundary corners added), its interior landmarks are drawn
         again with their number corrected (``stats["cvt_redrawn"]``).
     method : {"subdivided", "teichmuller", "base", "uniform"}
-        The paper's pipeline or one of its ablations (see the module documentation).
-        The default is ``"subdivided"``, not the paper's ``"teichmuller"``: measured here,
-        the Teichmueller map of the Tutte-embedded subdivision to the landmarks costs
-        tens of seconds on 34k faces, does not converge within its iteration budget and
-        lowers the quality (README, "Remeshing").
+        The paper's pipeline (the default) or one of its ablations (see the module
+        documentation). With ``relax``, ``"teichmuller"`` and ``"subdivided"`` differ only
+        in where the relaxation starts (the Teichmueller map of the level below the
+        output, or its linear subdivision); measured on the seven disk meshes of the
+        benchmark, their outputs have the same quality to within the spread over CVT
+        seeds.
     seed : int
         Seed of the CVT initialization; the output is a deterministic function of the
         input and the seed.
@@ -283,7 +286,8 @@ def remesh(
         :mod:`qcremesh.remeshing.relax`; 0 leaves the paper's pipeline alone). The
         connectivity and the semi-regular structure are kept. With ``"subdivided"`` the
         sweeps go to the level below the output, whose relaxed subdivision then gets
-        ``relax // 4`` more: measured on hand.ply, foot.off and human_face.obj this is
+        ``relax // 4`` more (with ``"teichmuller"``, the level below is first mapped
+        by the Teichmueller map): measured on hand.ply, foot.off and human_face.obj this is
         twice as fast as relaxing the output alone and raises the mean radius ratio by
         0.005-0.007.
     teichmuller_iterations : int
@@ -439,23 +443,32 @@ def remesh(
             done("subdivide")
 
             mu = None
-            if method == "teichmuller" and levels > 0:
+            # With the relaxation, which takes the level below the output first, the
+            # Teichmueller map is that level's (a quarter of the faces; the base mesh itself
+            # for one level, which the map leaves as it is).
+            mapped = -2 if relax > 0 else -1
+            if method == "teichmuller" and levels + mapped >= 0:
                 stage("teichmuller")
                 # The source is the equilateral complex of the subdivided mesh and the QC
                 # iteration starts from the linear subdivision, which already matches the
                 # landmarks (see qcremesh.beltrami.teichmuller).
+                map_uv, map_F = hierarchy[mapped]
                 tm = teichmuller_map(
-                    uv,
-                    Fo,
+                    map_uv,
+                    map_F,
                     np.arange(len(base_uv)),
                     base_uv,
-                    boundary=boundary_loop(Fo),
-                    initial=uv,
+                    boundary=boundary_loop(map_F),
+                    initial=map_uv,
                     reference="equilateral",
                     max_iter=teichmuller_iterations,
                     smooth=1,
                 )
-                uv, mu = tm.uv, tm.mu
+                # A face of a level and its four children of the linear subdivision have
+                # the same coefficient (the equilateral frames of the children are the
+                # parent's, up to half turns).
+                mu = np.repeat(tm.mu, 4 ** (-1 - mapped))
+                uv = tm.uv if mapped == -1 else subdivide_disk_mesh(tm.uv, map_F, 1)[-1][0]
                 run.update(
                     teichmuller_k=float(tm.k),
                     teichmuller_iterations=int(tm.iterations),
@@ -472,11 +485,11 @@ def remesh(
                 pinned[: len(theta)] = corner
                 scale = boundary_spacing
                 sweeps = relax
-                if method == "subdivided" and levels > 0:
+                if method in ("subdivided", "teichmuller") and levels > 0:
                     # Coarse to fine: the level below the output takes the sweeps (a quarter of
                     # the vertices, twice the reach per sweep), and its relaxed subdivision a
                     # quarter as many.
-                    coarse_uv, coarse_F = hierarchy[-2]
+                    coarse_uv, coarse_F = uv[: len(hierarchy[-2][0])], hierarchy[-2][1]
                     coarse_uv, _ = relax_on_surface(
                         dm.uv, F, V, coarse_uv, coarse_F, iterations=relax, pinned=pinned[: len(coarse_uv)],
                         boundary_scale=2 * scale, min_quality=0,
