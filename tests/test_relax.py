@@ -93,6 +93,25 @@ def test_snap_leaves_the_vertices_snapped_before():
     assert snapped[mover] and np.all(np.all(X == before, axis=1) | snapped)
 
 
+def test_snap_falls_back_to_another_vertex_of_the_face():
+    """Where the vertex nearest a tip cannot move towards it at all (a neighbour pushed
+    next to it leaves one of its faces near 0.3), the far point pulls another vertex of the
+    output face closest to it, in a later pass, onto the tip."""
+    V, F, uv_in, tip, X, Fo, uv, face = _snap_setup(0.3)
+    first = np.flatnonzero(_snap(V, F, uv_in, X.copy(), Fo, uv.copy(), face.copy()))
+    np.testing.assert_array_equal(first, [47])
+    uv[40] += [0.14, 0.07]
+    X[40] = [*uv[40], 0.0]
+    face[40] = locate_points(uv_in, F, uv[40:41])[0][0]
+    before = X.copy()
+    snapped = _snap(V, F, uv_in, X, Fo, uv, face)
+    moved = np.flatnonzero(np.any(X != before, axis=1))
+    np.testing.assert_array_equal(moved, [46])
+    assert snapped.sum() == 1 and snapped[46]
+    np.testing.assert_array_equal(X[46], V[tip])
+    assert radius_ratio(X, Fo).min() >= 0.3
+
+
 def test_snap_moves_part_of_the_way_up_a_cone_too_high():
     """A cone so high that a vertex on its tip would leave a face below 0.3: the nearest
     vertex goes part of the way (a fraction of the disk segment, lifted onto the surface:
