@@ -5,6 +5,7 @@ from scipy.spatial import Delaunay, cKDTree
 from conftest import DATA, delaunay_excess, tube_disk
 from qcremesh.adaptive.basemesh import (
     delaunay_disk_mesh,
+    flip_for_boundary_valence,
     flip_for_surface_quality,
     hexagonal_disk_points,
     subdivide_disk_mesh,
@@ -285,4 +286,30 @@ def test_flips_raise_the_quality_on_a_stretched_surface():
     before, after = radius_ratio(X, F), radius_ratio(X, G)
     assert after.min() >= before.min() and after.mean() > 0.8 > 0.35 > before.mean()
     same, none = flip_for_surface_quality(uv, F, X, np.zeros(len(uv), dtype=bool))
+    assert none == 0 and np.array_equal(same, F)
+
+
+def test_boundary_valence_flips_give_border_vertices_three_faces():
+    """The Delaunay triangulation of 60 points on the circle and a hexagonal lattice
+    inside has 30 boundary vertices with two faces and 12 with four; the flips bring
+    sum (faces - 3)^2 over them from 42 down to 18, keep the disk mesh an embedding with
+    the same boundary, the interior valences within 5-7 and the smallest radius ratio
+    (0.63 -> 0.68); nothing flips where no vertex counts."""
+    theta = 2 * np.pi * np.arange(60) / 60
+    uv, F = delaunay_disk_mesh(theta, hexagonal_disk_points(0.15))
+    X = np.column_stack([uv, np.zeros(len(uv))])
+    border = np.arange(len(uv)) < 60
+    G, flips = flip_for_boundary_valence(uv, F, X, border)
+
+    def excess(F):
+        return int(((np.bincount(F.ravel(), minlength=len(uv))[:60] - 3) ** 2).sum())
+
+    assert flips > 0 and G.shape == F.shape
+    assert excess(F) == 42 and excess(G) == 18
+    assert np.all(signed_doublearea(uv, G) > 0)
+    assert sorted(boundary_loops(G)[0]) == sorted(boundary_loops(F)[0]) and euler_characteristic(G) == 1
+    inner = np.bincount(G.ravel(), minlength=len(uv))[60:]
+    assert inner.min() >= 5 and inner.max() <= 7
+    assert radius_ratio(X, G).min() > radius_ratio(X, F).min()
+    same, none = flip_for_boundary_valence(uv, F, X, np.zeros(len(uv), dtype=bool))
     assert none == 0 and np.array_equal(same, F)

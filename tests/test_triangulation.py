@@ -30,6 +30,27 @@ def test_flip_edges_stops_where_nothing_gains():
     assert flips > 0 and len(changed) == 2 * flips
 
 
+def test_flip_edges_vertex_disjoint_rounds():
+    """With ``disjoint="vertices"`` no two edges flipped in one round share a vertex: the
+    new edges (c, d) and the old ones (a, b) of a round touch each vertex at most once."""
+    F = Delaunay(np.random.default_rng(0).uniform(0, 1, (50, 2))).simplices
+    seen = []
+
+    def everywhere(F, f1, f2, a, b, c, d):
+        seen.append(np.column_stack([a, b, c, d]))
+        return np.ones(len(a))
+
+    G, flips = flip_edges(F, everywhere, 1, disjoint="vertices")
+    changed = np.flatnonzero(np.any(G != F, axis=1))
+    assert flips > 0 and len(changed) == 2 * flips
+    # the flipped edges are the (a, b) whose faces changed; their four vertices are distinct
+    quads = seen[0]
+    old = {tuple(sorted(e)) for f in F[changed] for e in ((f[0], f[1]), (f[1], f[2]), (f[2], f[0]))}
+    new = {tuple(sorted(e)) for f in G[changed] for e in ((f[0], f[1]), (f[1], f[2]), (f[2], f[0]))}
+    flipped = quads[[tuple(sorted(q[:2])) in old - new for q in quads]]
+    assert len(flipped) == flips and len(np.unique(flipped)) == 4 * flips
+
+
 def test_delaunay_flips_recover_the_delaunay_triangulation():
     """Lawson's flips turn a valid but stretched triangulation (the Delaunay triangulation
     of the points squeezed 5 times along y) into Qhull's Delaunay triangulation of

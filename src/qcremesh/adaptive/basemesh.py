@@ -11,7 +11,16 @@ from ..geometry.triangulation import delaunay_flips, flip_edges, insert_points
 from ..mesh.subdivide import upsample
 from ..mesh.topology import boundary_edges
 
-__all__ = ["delaunay_disk_mesh", "flip_for_surface_quality", "subdivide_disk_mesh", "hexagonal_disk_points"]
+__all__ = [
+    "delaunay_disk_mesh",
+    "flip_for_surface_quality",
+    "flip_for_boundary_valence",
+    "subdivide_disk_mesh",
+    "hexagonal_disk_points",
+]
+
+# Smallest radius ratio on the surface of the two faces a valence flip makes.
+VALENCE_FLIP_QUALITY = 0.5
 
 
 def delaunay_disk_mesh(theta, interior, margin=0.2):
@@ -145,6 +154,69 @@ def flip_for_surface_quality(uv, F, X, flippable, rounds=50):
         return np.where(ok, gain, -1.0)
 
     return flip_edges(F, gain, rounds)
+
+
+def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
+    """Flip edges of a disk mesh so that its boundary vertices have three faces each, as
+    a straight border of equilateral triangles does.
+
+    A Delaunay triangulation of landmarks on the circle gives many of them two faces (two
+    right angles where the surface border is straight) or four; subdivision keeps the
+    count, so the output has faces of radius ratio about 0.83 or less around them, which
+    no relaxation mends (a star-shaped planar domain: mean radius ratio 0.963 at the
+    border, 0.977 with these flips). An edge (a, b) with faces (a, b, c) and (b, a, d)
+    becomes (c, d), which takes a face from a and b and gives one to c and d, when that
+    lowers sum (faces - 3)^2 over the ``boundary`` vertices, keeps the interior valences
+    within 5-7, makes two faces counter-clockwise in the disk whose smaller radius ratio
+    on the surface (at ``X``) is at least ``VALENCE_FLIP_QUALITY`` and at least that of
+    the two faces replaced. Each round flips, best gain first, edges that share no
+    vertex.
+
+    Parameters
+    ----------
+    uv : (n, 2) float
+    F : (m, 3) int
+        Counter-clockwise triangles of the disk.
+    X : (n, 3) float
+        The vertices' points on the surface.
+    boundary : (n,) bool
+        The boundary vertices whose face count is to be 3 (not the corners, whose angle
+        asks for another count).
+    rounds : int
+
+    Returns
+    -------
+    F : (m, 3) int64
+        The flipped triangles (the same number).
+    flips : int
+    """
+    on = np.zeros(len(uv), dtype=bool)
+    on[boundary_edges(F).ravel()] = True
+
+    def gain(F, f1, f2, a, b, c, d):
+        count = np.bincount(F.ravel(), minlength=len(uv))
+        excess = np.where(boundary, count - 3, 0)
+        # (faces - 3)^2 of a and b with one face less, of c and d with one more
+        drop = 2 * (excess[a] + excess[b] - excess[c] - excess[d]) - (
+            boundary[a].astype(int) + boundary[b] + boundary[c] + boundary[d]
+        )
+        valence = count  # interior vertices: as many neighbours as faces
+        interior_ok = (on[a] | (valence[a] > 5)) & (on[b] | (valence[b] > 5)) & (on[c] | (valence[c] < 7)) & (
+            on[d] | (valence[d] < 7)
+        )
+        new1, new2 = np.column_stack([a, d, c]), np.column_stack([d, b, c])
+        q = radius_ratio(X, F)
+        q_new = np.minimum(radius_ratio(X, new1), radius_ratio(X, new2))
+        ok = (
+            (drop > 0)
+            & interior_ok
+            & (q_new >= np.maximum(VALENCE_FLIP_QUALITY, np.minimum(q[f1], q[f2])))
+            & (signed_doublearea(uv, new1) > 0)
+            & (signed_doublearea(uv, new2) > 0)
+        )
+        return np.where(ok, drop + q_new, -1.0)
+
+    return flip_edges(F, gain, rounds, disjoint="vertices")
 
 
 def subdivide_disk_mesh(uv, F, levels):

@@ -43,12 +43,13 @@ def insert_points(uv, F, points):
     return F
 
 
-def flip_edges(F, gain_of, rounds):
+def flip_edges(F, gain_of, rounds, disjoint="faces"):
     """Flip interior edges where a criterion gains, in rounds of independent flips.
 
     Each round measures every interior edge (a, b), with faces f1 = (a, b, c) and
     f2 = (b, a, d), by ``gain_of``, and flips to (c, d), best gain first, the edges of
-    positive gain that share no face with a better one; until none gains.
+    positive gain that share no face (or, with ``disjoint="vertices"``, no vertex) with a
+    better one; until none gains.
 
     Parameters
     ----------
@@ -58,6 +59,10 @@ def flip_edges(F, gain_of, rounds):
         returns their gains, (e,) float; a flip that must not happen gets a gain <= 0.
     rounds : int
         Maximum number of rounds.
+    disjoint : {"faces", "vertices"}
+        What the flips of one round must not share: faces, for a criterion on the two
+        faces of an edge; vertices, for one on the vertices' valences (two flips at one
+        vertex would both count its change).
 
     Returns
     -------
@@ -80,10 +85,12 @@ def flip_edges(F, gain_of, rounds):
             break
         candidates = candidates[np.argsort(-gain[candidates], kind="stable")]
         rank = np.arange(len(candidates))
-        best = np.full(m, len(candidates))
-        np.minimum.at(best, f1[candidates], rank)
-        np.minimum.at(best, f2[candidates], rank)
-        take = candidates[(best[f1[candidates]] == rank) & (best[f2[candidates]] == rank)]
+        owners = (f1, f2) if disjoint == "faces" else (a, b, c, d)
+        best = np.full(max(m, int(F.max()) + 1), len(candidates))
+        for owner in owners:
+            np.minimum.at(best, owner[candidates], rank)
+        first = np.logical_and.reduce([best[owner[candidates]] == rank for owner in owners])
+        take = candidates[first]
         F[f1[take]] = np.column_stack([a, d, c])[take]
         F[f2[take]] = np.column_stack([d, b, c])[take]
         flips += len(take)

@@ -36,6 +36,7 @@ import numpy as np
 
 from ..adaptive.basemesh import (
     delaunay_disk_mesh,
+    flip_for_boundary_valence,
     flip_for_surface_quality,
     hexagonal_disk_points,
     subdivide_disk_mesh,
@@ -430,11 +431,21 @@ def remesh(
                 wanted = max((base_faces - len(theta) + 2) / 2, 0.0)
                 base_uv, base_F = base_mesh(int(round(wanted * ni / kept)))
                 run.update(cvt_redrawn=True)
-            if stretch is not None:
+            valence_flips = relax > 0 and method != "uniform"
+            if stretch is not None or valence_flips:
                 on_circle = np.arange(len(base_uv)) < len(theta)
-                base_X, base_stretch = project_to_surface(dm.uv, F, bnd, base_uv, on_circle, [V, stretch])
-                base_F, flips = flip_for_surface_quality(base_uv, base_F, base_X, base_stretch > NONCONFORMAL_MU)
+                fields = [V] + ([stretch] if stretch is not None else [])
+                base_X, *base_stretch = project_to_surface(dm.uv, F, bnd, base_uv, on_circle, fields)
+            if stretch is not None:
+                base_F, flips = flip_for_surface_quality(base_uv, base_F, base_X, base_stretch[0] > NONCONFORMAL_MU)
                 run.update(base_flips=flips)
+            if valence_flips:
+                # Beyond the paper, with the relaxation: three faces at every boundary
+                # landmark but the corners.
+                border = on_circle.copy()
+                border[: len(theta)] &= ~corner
+                base_F, flips = flip_for_boundary_valence(base_uv, base_F, base_X, border)
+                run.update(base_valence_flips=flips)
             run.update(base_vertices=len(base_uv), base_faces=len(base_F))
 
             stage("subdivide")
