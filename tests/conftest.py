@@ -88,6 +88,37 @@ def tube_disk(length, k=16, seed=0):
     return np.concatenate([P, [[0.0, 0.0, length + 1.0]]]), F
 
 
+def star_disk(tips=5, inner=0.45, k=40, seed=0):
+    """A planar star polygon (``tips`` points at radius 1, the notches between them at
+    radius ``inner``) meshed irregularly: the Delaunay triangulation of a jittered grid of
+    the unit disk (``k`` boundary points per tip) pushed out along each ray onto the
+    polygon, so its triangles stretch towards the tips. Vertices (n, 3) at z = 0 and
+    counter-clockwise faces; the polygon's corners are vertices."""
+    m = 2 * tips
+    corners_angle = np.pi * np.arange(m) / tips
+    corners = np.where(np.arange(m) % 2 == 0, 1.0, inner)[:, None] * np.column_stack(
+        [np.cos(corners_angle), np.sin(corners_angle)]
+    )
+    b = tips * k
+    t = 2 * np.pi * np.arange(b) / b
+    uv, _ = grid_disk(int(np.sqrt(b * b / (4 * np.pi))), jitter=0.3, seed=seed)
+    uv = 2 * uv - 1
+    uv = uv[np.linalg.norm(uv, axis=1) < 1 - 1.0 / np.sqrt(b)]
+    uv = np.concatenate([np.column_stack([np.cos(t), np.sin(t)]), uv])
+    F = Delaunay(uv).simplices.astype(np.int64)
+    a, c = uv[F[:, 1]] - uv[F[:, 0]], uv[F[:, 2]] - uv[F[:, 0]]
+    cw = a[:, 0] * c[:, 1] - a[:, 1] * c[:, 0] < 0
+    F[cw] = F[cw][:, ::-1]
+    # radius of the polygon along each ray: the edge between the corners on either side
+    phi = np.mod(np.arctan2(uv[:, 1], uv[:, 0]), 2 * np.pi)
+    i = np.minimum((phi / (np.pi / tips)).astype(int), m - 1)
+    P, Q = corners[i], corners[(i + 1) % m]
+    d = np.column_stack([np.cos(phi), np.sin(phi)])
+    edge = Q - P
+    radius = (P[:, 0] * edge[:, 1] - P[:, 1] * edge[:, 0]) / (d[:, 0] * edge[:, 1] - d[:, 1] * edge[:, 0])
+    return np.column_stack([uv * radius[:, None], np.zeros(len(uv))]), F
+
+
 def delaunay_excess(uv, F):
     """Largest excess over pi of the two angles opposite an interior edge of a planar
     triangulation (<= 0 where it is Delaunay)."""

@@ -132,8 +132,10 @@ def test_voronoi_owner_on_a_folded_strip():
 
 def test_cvt_surface_cells_fill_the_nostrils(face):
     """The disk map compresses the nostrils of human_face (0.47 % of its area) by orders of
-    magnitude within one CVT cell: with disk cells and weight rho^2 they keep one of 1,100
-    landmarks, with surface cells they get at least their share (5.2; measured: 6)."""
+    magnitude within one CVT cell: with disk cells and weight rho^2 they keep less than
+    half their share of 1,100 landmarks (5.2; measured: 2, and 1 with the map centred at
+    the torsion function's maximum instead of its plateau's middle), with surface cells
+    they get at least their share over draws (seeds 0-3; measured: 6, 6, 7, 7)."""
     V, F, dm = face
     samples_uv, samples_F = upsample(dm.uv, F, 1)
     samples_V, _ = upsample(V, F, 1)
@@ -150,11 +152,17 @@ def test_cvt_surface_cells_fill_the_nostrils(face):
     inside = np.linalg.norm(samples_V[:, None] - centres, axis=2).min(1) < 0.004
     due = area[inside].sum() / area.sum() * 1100
     disk = cvt_landmarks(samples_uv, area, circle, 1000, weight=rho * area)
-    surface = cvt_landmarks(samples_uv, area, circle, 1000, positions=samples_V, fixed_positions=circle_V)
     lift = cKDTree(samples_uv)
+    surface = [
+        in_nostrils(samples_V[lift.query(cvt.points)[1]])
+        for cvt in (
+            cvt_landmarks(samples_uv, area, circle, 1000, positions=samples_V, fixed_positions=circle_V, seed=seed)
+            for seed in range(4)
+        )
+    ]
     assert 4 <= due <= 6
-    assert in_nostrils(samples_V[lift.query(disk.points)[1]]) <= 1
-    assert in_nostrils(samples_V[lift.query(surface.points)[1]]) >= due
+    assert in_nostrils(samples_V[lift.query(disk.points)[1]]) < due / 2
+    assert np.mean(surface) >= due
 
 
 def test_delaunay_disk_mesh_and_subdivision():

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from conftest import DATA, shared, strip_disk, tube_disk
+from conftest import DATA, shared, star_disk, strip_disk, tube_disk
 from qcremesh.geometry.distance import point_mesh_distance
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
 from qcremesh.mesh.io import read_mesh
@@ -137,18 +137,17 @@ def test_targets_on_shared_mesh(name):
 @pytest.mark.parametrize("name", ["fran_cut.ply", "venus.off"])
 def test_min_quality_including_the_boundary(name):
     """The minimum-quality search of the relaxation lifts every face, boundary ones
-    included, to a radius ratio of 0.3 and more, at both face counts; relax=0 (the paper's
-    pipeline alone) leaves slivers."""
+    included, to a radius ratio of 0.3 and more, at both face counts, above the smallest
+    of the paper's pipeline alone (relax=0; measured at the face count / half: fran_cut
+    0.29 / 0.30, venus 0.44 / 0.30, against 0.66 / 0.66 and 0.73 / 0.72)."""
     V, F = read_mesh(DATA / name) if (DATA / name).exists() else read_mesh(shared(name))
-    paper_min = []
     for faces in (len(F), len(F) // 2):
         r = remesh(V, F, faces=faces)
         q = radius_ratio(r.V, r.F)
         assert q.min() >= 0.3 and q.mean() >= 0.97
         check_disk(r.V, r.F)
         paper = remesh(V, F, faces=faces, relax=0)
-        paper_min.append(radius_ratio(paper.V, paper.F).min())
-    assert min(paper_min) < 0.3
+        assert q.min() > radius_ratio(paper.V, paper.F).min()
 
 
 def test_min_quality_at_the_nostrils():
@@ -243,3 +242,20 @@ def test_default_method_is_the_teichmuller_map(fran, fran_result):
     V, F, data = fran
     subdivided = remesh(V, F, data=data, seed=3, method="subdivided")
     assert subdivided.mu is None and subdivided.V.tobytes() != r.V.tobytes()
+
+
+def test_sheared_star_remeshes_without_slivers():
+    """The star of test_disk.py's sheared triangulation (mean radius ratio 0.49): its disk
+    map, on the intrinsic Delaunay triangulation, is conformal enough for the remesh to
+    keep every face above 0.3 (measured 0.63 at both counts; 0.01 / 0.00 on the input's
+    own triangulation), with the ten corners of the star kept as vertices."""
+    V, F = star_disk()
+    for faces in (len(F), len(F) // 2):
+        r = remesh(V, F, faces=faces)
+        q = radius_ratio(r.V, r.F)
+        assert abs(len(r.F) - faces) <= 0.05 * faces
+        assert q.min() >= 0.3 and q.mean() >= 0.96
+        radius = np.linalg.norm(V[:, :2], axis=1)
+        corners = V[np.isclose(radius, 1.0) | np.isclose(radius, 0.45)]
+        assert len(corners) == 10
+        assert np.all(np.min(np.linalg.norm(r.V[:, None] - corners[None], axis=2), axis=0) < 1e-12)

@@ -16,6 +16,7 @@ from ..mesh.topology import adjacency_matrix, vertex_face_incidence
 __all__ = [
     "complex_derivatives",
     "beltrami_coefficient",
+    "metric_beltrami_coefficient",
     "compose_beltrami",
     "mu_chop",
     "face_to_vertex",
@@ -105,6 +106,40 @@ def beltrami_coefficient(uv, F, target):
     fz, fzbar = complex_derivatives(uv, F, target)
     with np.errstate(divide="ignore", invalid="ignore"):
         return fzbar / fz
+
+
+def metric_beltrami_coefficient(uv, F, lengths):
+    """Beltrami coefficient of a planar mesh onto a metric given by edge lengths, per face.
+
+    Eq. 19 with the first fundamental form of the face solved from its side lengths: the
+    metric g = [[E, F], [F, G]] on the planar face for which each side e_k (from corner k
+    to corner k + 1) has length l_k, e_k^T g e_k = l_k^2 (three equations, three
+    unknowns), then
+
+        mu = (E - G + 2 i F) / (E + G + 2 sqrt(E G - F^2)).
+
+    With ``lengths`` the side lengths of a mesh in space this is
+    :func:`beltrami_coefficient` with the surface as target; the lengths may also be
+    those of an intrinsic triangulation, which has no embedding.
+
+    Parameters
+    ----------
+    uv : (n, 2) float
+        Source planar mesh, counter-clockwise.
+    F : (m, 3) int
+    lengths : (m, 3) float
+        ``lengths[f, k]``: length of the side from ``F[f, k]`` to ``F[f, (k + 1) % 3]``.
+
+    Returns
+    -------
+    mu : (m,) complex
+    """
+    P = np.asarray(uv, dtype=np.float64)[np.asarray(F)]
+    e = np.roll(P, -1, axis=1) - P  # (m, 3 sides, 2)
+    A = np.stack([e[..., 0] ** 2, 2 * e[..., 0] * e[..., 1], e[..., 1] ** 2], axis=-1)
+    E, Fm, G = np.linalg.solve(A, np.asarray(lengths, dtype=np.float64)[..., None] ** 2)[..., 0].T
+    root = np.sqrt(np.maximum(E * G - Fm * Fm, 0.0))
+    return (E - G + 2j * Fm) / (E + G + 2 * root)
 
 
 def compose_beltrami(mu_f, fz, mu_g_at_f):

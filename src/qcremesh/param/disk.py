@@ -15,6 +15,22 @@ step 3 is exactly the cotangent Laplacian of the surface (checked by a test). Th
 mesh is the domain on which it is assembled; its regularity is what the paper's fake
 metric buys.
 
+Intrinsic Delaunay triangulation. That Laplacian has negative weights wherever two
+angles opposite an edge sum to more than pi, and a triangulation sheared throughout (a
+star-shaped domain meshed by pushing a disk mesh out along its rays, mean radius ratio
+0.49) gets a map far from conformal: mean |mu| 0.32 on the input's faces, and a remesh
+with slivers (smallest radius ratio 0.01 / 0.00 at its face count / half). Where the
+map's mean |mu| is above ``INTRINSIC_MU``, steps 1-4 run again on the intrinsic Delaunay
+triangulation of the surface (:mod:`qcremesh.geometry.intrinsic`: the same vertices and
+the same flat metric on every input triangle, edges flipped until no two opposite angles
+sum to more than pi; the metric of step 2 from its edge lengths,
+:func:`~qcremesh.beltrami.coefficient.metric_beltrami_coefficient`), whose interior
+weights are all non-negative, and the map closer to conformal is kept: the star's has
+mean |mu| 0.10, its remesh a smallest radius ratio of 0.63. The scans of
+``../shared/data`` have 0.01-0.03 on their own triangulation and are not mapped again
+(on the intrinsic one their remeshes came out as good, within the spread over CVT seeds,
+at 0.04-0.1 s more).
+
 Free boundary. The boundary correspondence of the Riemann map f: S -> D with f(p) = 0 is
 the harmonic measure of the boundary seen from p: the arc of the circle that a piece of
 the boundary maps to has length 2 pi omega_p(piece). Discretely, with L the generalized
@@ -27,19 +43,20 @@ LBS with those boundary values. Measured against the alternatives on the meshes 
 and needs a single factorization, reused for three solves; its ordering and symbolic
 analysis are those of the Tutte embedding's matrix, which has the same pattern.
 
-Normalization of the Moebius freedom: the vertex p that maximizes the torsion function
-(-L u = vertex areas, u = 0 on the boundary; its maximum is the deepest point of the
-surface, far from every boundary) goes to 0, and the boundary vertex with the smallest
-index goes to 1. The discrete solve puts p within about 1e-4 of 0; a Moebius
-transformation of the disk (:func:`mobius_normalize`) makes both exact.
+Normalization of the Moebius freedom: a vertex p in the middle of the region where the
+torsion function (-L u = vertex areas, u = 0 on the boundary) is near its maximum, the
+deepest part of the surface, far from every boundary, goes to 0 (see
+:func:`_plateau_centre`), and the boundary vertex with the smallest index goes to 1. The
+discrete solve puts p within about 1e-4 of 0; a Moebius transformation of the disk
+(:func:`mobius_normalize`) makes both exact.
 
-Bijectivity. The generalized Laplacian of a surface with obtuse triangles has negative
-edge weights, and then the discrete harmonic map can fold faces. Folded faces (signed
-area <= 0) are detected, and the map is solved again with the negative weights raised
-to a small positive floor: with positive weights and the boundary on a circle, Tutte's
-and Floater's theorems make the map bijective. The number of folds found and repaired
-is reported. The repair's matrix has the same pattern too, so it costs one numerical
-factorization.
+Bijectivity. With non-negative weights and the boundary on a circle, Tutte's and
+Floater's theorems make a discrete harmonic map bijective; with the negative weights of
+obtuse triangles, or on an intrinsic triangulation whose triangles are not the input's,
+a needle of the input can come out folded (camel_b: one face; hand.ply subdivided
+twice: three). Folded faces (signed area <= 0) are detected and unfolded by a local
+Tutte relaxation around them (:func:`_untangle`); the number of folds found and repaired
+is reported.
 """
 
 from __future__ import annotations
@@ -49,12 +66,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse.csgraph import dijkstra
 
-from ..beltrami.coefficient import beltrami_coefficient
+from ..beltrami.coefficient import beltrami_coefficient, metric_beltrami_coefficient
 from ..beltrami.solver import generalized_laplacian
+from ..geometry.intrinsic import intrinsic_cotmatrix, intrinsic_delaunay
 from ..geometry.linsolve import complement, dirichlet_solve, spd_solver
 from ..geometry.operators import doublearea, signed_doublearea
-from ..mesh.topology import boundary_loop
+from ..mesh.topology import adjacency_matrix, boundary_loop, edges
 from ..mesh.validate import check_disk
 from .tutte import tutte_embedding
 
@@ -63,6 +82,19 @@ __all__ = ["DiskMap", "disk_conformal_map", "harmonic_measure", "mobius_normaliz
 # Narrowest arc of the circle a boundary vertex of the disk map gets (radians): Qhull's
 # Delaunay triangulation of landmarks on the circle loses points closer than about 1e-7.
 MIN_BOUNDARY_ARC = 1e-6
+
+# Rounds of the local Tutte relaxation that unfolds the few faces a harmonic map folds
+# (see _untangle).
+UNTANGLE_ROUNDS = 200
+
+# Above this mean |mu| the map is computed again on the intrinsic Delaunay triangulation
+# of the surface, and the closer to conformal of the two kept (the scans of
+# ../shared/data: 0.02-0.03 on their own triangulation).
+INTRINSIC_MU = 0.05
+
+# The centre of the map is the middle of the region where the torsion function is within
+# this fraction of its maximum (see _plateau_centre).
+PLATEAU = 0.1
 
 
 @dataclass
@@ -91,6 +123,9 @@ class DiskMap:
         arc instead: where the map crowds the boundary beyond what the remeshing
         resolves, and is not conformal (the ends of a long strip, the legs of a surface
         cut along slits).
+    intrinsic_flips : int
+        Edge flips from the input's triangulation to its intrinsic Delaunay
+        triangulation, where the map was computed on it (0 otherwise).
     times : dict of str to float
         Wall time of each stage, in seconds.
     """
@@ -103,6 +138,7 @@ class DiskMap:
     folded_faces: int
     repaired_faces: int
     narrowest_arcs: int = 0
+    intrinsic_flips: int = 0
     times: dict = field(default_factory=dict)
 
     @property
@@ -155,15 +191,6 @@ def harmonic_measure(L, bnd, p, solve_interior=None):
     return (L[bnd] @ G), solve_interior
 
 
-def _clamped(L, floor):
-    """Copy of L with every off-diagonal weight raised to at least ``floor``."""
-    C = sp.coo_matrix(L)
-    off = C.row != C.col
-    w = np.where(off, np.maximum(C.data, floor), 0.0)
-    W = sp.csr_matrix((w, (C.row, C.col)), shape=L.shape)
-    return (W - sp.diags(np.asarray(W.sum(axis=1)).ravel())).tocsr()
-
-
 def disk_conformal_map(V, F, *, check=True):
     """Free-boundary conformal map of a disk-topology mesh onto the unit disk.
 
@@ -188,40 +215,72 @@ def disk_conformal_map(V, F, *, check=True):
     V = np.asarray(V, dtype=np.float64)
     F = np.asarray(F, dtype=np.int64)
     bnd = check_disk(V, F) if check else boundary_loop(F)
+    times["validate"] = time.perf_counter() - t0
+
+    result = _map_on(V, F, bnd, F, None, times)
+    if result.mean_abs_mu > INTRINSIC_MU:
+        # The input's triangulation may be what spoils the map: the same surface on its
+        # intrinsic Delaunay triangulation, kept where the map comes out closer to
+        # conformal.
+        t = time.perf_counter()
+        F_int, lengths, _, flips = intrinsic_delaunay(V, F)
+        times["intrinsic"] = time.perf_counter() - t
+        if flips:
+            other = _map_on(V, F, bnd, F_int, lengths, times)
+            if other.mean_abs_mu < result.mean_abs_mu:
+                result = other
+                result.intrinsic_flips = flips
+    result.times = times
+    return result
+
+
+def _map_on(V, F, bnd, T, lengths, times):
+    """Steps 1-4 on the triangulation ``T`` of the surface: the input's ``F`` (``lengths``
+    None: the metric of the embedding), or its intrinsic Delaunay triangulation with side
+    lengths ``lengths``; the map of the input's vertices, measured on its faces ``F``."""
     n = len(V)
     t1 = time.perf_counter()
-    times["validate"] = t1 - t0
-
-    tutte, solver = tutte_embedding(F, bnd, n, return_solver=True)
+    tutte, solver = tutte_embedding(T, bnd, n, return_solver=True)
     t2 = time.perf_counter()
-    times["tutte"] = t2 - t1
+    times["tutte"] = times.get("tutte", 0.0) + t2 - t1
 
-    mu_tutte = beltrami_coefficient(tutte, F, V)
-    L = generalized_laplacian(tutte, F, mu_tutte)
+    if lengths is None:
+        L = generalized_laplacian(tutte, T, beltrami_coefficient(tutte, T, V))
+    elif np.all(signed_doublearea(tutte, T) > 0):
+        L = generalized_laplacian(tutte, T, metric_beltrami_coefficient(tutte, T, lengths))
+    else:
+        # A Tutte embedding of an intrinsic triangulation whose edges run twice between
+        # two vertices can flatten faces; the operator is the same without it.
+        L = intrinsic_cotmatrix(T, lengths, n)
     t3 = time.perf_counter()
-    times["beltrami"] = t3 - t2
+    times["beltrami"] = times.get("beltrami", 0.0) + t3 - t2
 
     interior = complement(bnd, n)
     solve_interior = solver.refactorize(-L[interior][:, interior])
-    # Torsion function: its maximum is the deepest point, mapped to 0.
     area = np.bincount(F.ravel(), weights=np.repeat(doublearea(V, F) / 6, 3), minlength=n)
-    torsion = solve_interior(area[interior])
-    center = int(interior[np.argmax(torsion)])
+    torsion = np.zeros(n)
+    torsion[interior] = solve_interior(area[interior])
+    center = _plateau_centre(V, F, torsion)
     omega, _ = harmonic_measure(L, bnd, center, solve_interior)
-    z, repaired = _free_boundary_map(L, F, bnd, omega, solve_interior)
-    z = mobius_normalize(z, center, bnd[0])
+    z = mobius_normalize(_free_boundary_map(L, bnd, omega, solve_interior), center, bnd[0])
+    # Faces of the input that the map folds (needles, or faces across the obtuse angles
+    # whose cotangent weights are negative) are unfolded after the normalization, which
+    # could turn a face left nearly flat over.
+    repaired = int(np.count_nonzero(signed_doublearea(np.column_stack([z.real, z.imag]), F) <= 0))
+    if repaired:
+        z = _untangle(z, F, bnd)
     uv = np.column_stack([z.real, z.imag])
     t4 = time.perf_counter()
-    times["lbs"] = t4 - t3
+    times["lbs"] = times.get("lbs", 0.0) + t4 - t3
 
     # Faces the map squeezes to zero area (below double precision, counted as folded)
     # have no finite mu.
     with np.errstate(divide="ignore", invalid="ignore"):
         mu = beltrami_coefficient(uv, F, V)
     folded = int(np.count_nonzero(signed_doublearea(uv, F) <= 0))
-    times["measure"] = time.perf_counter() - t4
+    times["measure"] = times.get("measure", 0.0) + time.perf_counter() - t4
     narrowest = int(np.count_nonzero((omega > 0) & (omega < MIN_BOUNDARY_ARC / (2 * np.pi))))
-    return DiskMap(uv, mu, tutte, bnd, center, folded, repaired, narrowest, times)
+    return DiskMap(uv, mu, tutte, bnd, center, folded, repaired, narrowest)
 
 
 def mobius_normalize(z, center, anchor):
@@ -268,16 +327,59 @@ def _boundary_angles(omega):
     return theta - theta[0]
 
 
-def _free_boundary_map(L, F, bnd, omega, solve_interior):
+def _plateau_centre(V, F, torsion):
+    """The middle of the longest shortest path (along the edges) across the region, around
+    the maximum of the torsion function, where it is within ``PLATEAU`` of the maximum.
+
+    Along a long part of a surface of constant width (a strip, a finger) the torsion
+    function is flat to within rounding, and its maximum falls anywhere along it: at 5.2
+    of a strip 8 long (jittered grid), whose far end the map then crowds by exp(-pi 5.2)
+    instead of exp(-pi 4) (mean |mu| 0.23 against 0.13 from the middle). The region is
+    then a band along the part, and the middle of its longest path the middle of the
+    part; elsewhere the region is a small patch around the maximum. The path's ends are
+    found by two sweeps of Dijkstra's algorithm (from the maximum to the farthest vertex,
+    and from there to the farthest again)."""
+    plateau = torsion >= (1 - PLATEAU) * torsion.max()
+    E = edges(F)
+    E = E[plateau[E[:, 0]] & plateau[E[:, 1]]]
+    length = np.linalg.norm(V[E[:, 0]] - V[E[:, 1]], axis=1)
+    graph = sp.csr_matrix((length, (E[:, 0], E[:, 1])), shape=(len(V), len(V)))
+    start = int(np.argmax(torsion))
+    reach = dijkstra(graph, directed=False, indices=start)
+    end = int(np.argmax(np.where(np.isfinite(reach), reach, -1.0)))
+    reach, previous = dijkstra(graph, directed=False, indices=end, return_predecessors=True)
+    far = int(np.argmax(np.where(np.isfinite(reach), reach, -1.0)))
+    path = [far]
+    while path[-1] != end:
+        path.append(int(previous[path[-1]]))
+    path = np.array(path)
+    return int(path[np.argmin(np.abs(reach[path] - reach[far] / 2))])
+
+
+def _free_boundary_map(L, bnd, omega, solve_interior):
     theta = _boundary_angles(omega)
-    zb = np.exp(1j * theta)
-    z, _ = dirichlet_solve(L, bnd, zb, solve_interior)
-    folded = int(np.count_nonzero(signed_doublearea(np.column_stack([z.real, z.imag]), F) <= 0))
-    if folded == 0:
-        return z, 0
-    weights = L.data[L.indices != np.repeat(np.arange(L.shape[0]), np.diff(L.indptr))]
-    floor = 1e-2 * np.median(weights[weights > 0])
-    C = _clamped(L, floor)
-    interior = complement(bnd, L.shape[0])
-    z, _ = dirichlet_solve(C, bnd, zb, solve_interior.refactorize(-C[interior][:, interior]))
-    return z, folded
+    return dirichlet_solve(L, bnd, np.exp(1j * theta), solve_interior)[0]
+
+
+def _untangle(z, F, bnd):
+    """Unfold the faces of a disk map by local Tutte relaxation: in each round, the
+    interior vertices of the folded faces and of the faces around them go to the mean of
+    their neighbours (one Jacobi sweep of the uniform Laplacian there, the rest staying),
+    until no face is folded or after ``UNTANGLE_ROUNDS`` rounds. A Tutte embedding folds
+    no face, and the few faces a harmonic map folds are needles whose neighbourhood it
+    maps well, so this ends within a few rounds and moves few vertices."""
+    n = len(z)
+    A = adjacency_matrix(F, n)
+    degree = np.asarray(A.sum(axis=1)).ravel()
+    interior = np.ones(n, dtype=bool)
+    interior[bnd] = False
+    z = z.copy()
+    for _ in range(UNTANGLE_ROUNDS):
+        folded = signed_doublearea(np.column_stack([z.real, z.imag]), F) <= 0
+        if not folded.any():
+            break
+        region = np.zeros(n, dtype=bool)
+        region[F[folded].ravel()] = True
+        v = np.flatnonzero((region | (A @ region > 0)) & interior)
+        z[v] = (A[v] @ z) / degree[v]
+    return z
