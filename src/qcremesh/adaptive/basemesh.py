@@ -141,19 +141,22 @@ def flip_for_surface_quality(uv, F, X, flippable, rounds=50):
     """
 
     def gain(F, f1, f2, a, b, c, d):
-        new1, new2 = np.column_stack([a, d, c]), np.column_stack([d, b, c])
-        q = radius_ratio(X, F)
-        old = np.minimum(q[f1], q[f2])
-        gain = np.minimum(radius_ratio(X, new1), radius_ratio(X, new2)) - old
-        ok = (
-            (flippable[a] | flippable[b] | flippable[c] | flippable[d])
-            & (gain > 1e-6)
-            & (signed_doublearea(uv, new1) > 0)
-            & (signed_doublearea(uv, new2) > 0)
-        )
+        old, new, embedded = _flip_quality(uv, X, F, f1, f2, a, b, c, d)
+        gain = new - old
+        ok = (flippable[a] | flippable[b] | flippable[c] | flippable[d]) & (gain > 1e-6) & embedded
         return np.where(ok, gain, -1.0)
 
     return flip_edges(F, gain, rounds)
+
+
+def _flip_quality(uv, X, F, f1, f2, a, b, c, d):
+    """For flips of edges (a, b) with faces f1 = (a, b, c), f2 = (b, a, d) to (c, d): the
+    smaller radius ratio on the surface of the two faces before and after, and whether
+    both new faces are counter-clockwise in the disk; (e,) each."""
+    new1, new2 = np.column_stack([a, d, c]), np.column_stack([d, b, c])
+    q = radius_ratio(X, F)
+    embedded = (signed_doublearea(uv, new1) > 0) & (signed_doublearea(uv, new2) > 0)
+    return np.minimum(q[f1], q[f2]), np.minimum(radius_ratio(X, new1), radius_ratio(X, new2)), embedded
 
 
 def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
@@ -204,17 +207,9 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
         interior_ok = (on[a] | (valence[a] > 5)) & (on[b] | (valence[b] > 5)) & (on[c] | (valence[c] < 7)) & (
             on[d] | (valence[d] < 7)
         )
-        new1, new2 = np.column_stack([a, d, c]), np.column_stack([d, b, c])
-        q = radius_ratio(X, F)
-        q_new = np.minimum(radius_ratio(X, new1), radius_ratio(X, new2))
-        ok = (
-            (drop > 0)
-            & interior_ok
-            & (q_new >= np.maximum(VALENCE_FLIP_QUALITY, np.minimum(q[f1], q[f2])))
-            & (signed_doublearea(uv, new1) > 0)
-            & (signed_doublearea(uv, new2) > 0)
-        )
-        return np.where(ok, drop + q_new, -1.0)
+        old, new, embedded = _flip_quality(uv, X, F, f1, f2, a, b, c, d)
+        ok = (drop > 0) & interior_ok & (new >= np.maximum(VALENCE_FLIP_QUALITY, old)) & embedded
+        return np.where(ok, drop + new, -1.0)
 
     return flip_edges(F, gain, rounds, disjoint="vertices")
 
