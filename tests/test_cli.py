@@ -4,7 +4,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import DATA, grid_disk, shared, split_vertex, strip_disk, tube_disk
+from conftest import DATA, grid_disk, shared, split_vertex, star_disk, strip_disk, tube_disk
 from qcremesh.cli.main import main
 from qcremesh.mesh.io import read_mesh, write_mesh
 
@@ -25,6 +25,21 @@ def test_param_writes_obj_with_disk_uv(tmp_path, capsys):
     a, b, c = F[0] + 1
     assert first_face == f"f {a}/{a} {b}/{b} {c}/{c}"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_param_says_when_the_map_is_on_the_intrinsic_delaunay_triangulation(tmp_path, capsys):
+    """A sheared star (see test_disk.py): the map is computed on the intrinsic Delaunay
+    triangulation and the needles it folds are unfolded, which the summary says; the
+    output keeps the input's faces. fran_cut's map is on its own triangulation."""
+    path = tmp_path / "star.ply"
+    write_mesh(path, *star_disk())
+    assert main(["param", str(path), "-o", str(tmp_path / "d.obj")]) == 0
+    text = capsys.readouterr().out
+    assert "(on the intrinsic Delaunay triangulation, 2241 edge flips away)" in text
+    assert "folded faces: 0 (5 folded by the solve, unfolded)" in text
+    np.testing.assert_array_equal(read_mesh(tmp_path / "d.obj")[1], star_disk()[1])
+    assert main(["param", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "f.obj")]) == 0
+    assert "intrinsic" not in capsys.readouterr().out
 
 
 @pytest.mark.parametrize(

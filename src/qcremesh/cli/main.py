@@ -281,12 +281,17 @@ def _param(args, out):
     print(f"{args.input}: {len(V)} vertices, {len(F)} faces", file=out)
     print(
         f"|mu| of the map disk -> surface: mean {result.mean_abs_mu:.5f}, "
-        f"max {result.max_abs_mu:.4f}",
+        f"max {result.max_abs_mu:.4f}"
+        + (
+            f" (on the intrinsic Delaunay triangulation, {result.intrinsic_flips} edge flips away)"
+            if result.intrinsic_flips
+            else ""
+        ),
         file=out,
     )
     print(
         f"folded faces: {result.folded_faces}"
-        + (f" ({result.repaired_faces} folded by the first solve, repaired)" if result.repaired_faces else ""),
+        + (f" ({result.repaired_faces} folded by the solve, unfolded)" if result.repaired_faces else ""),
         file=out,
     )
     print(f"boundary on the unit circle to {result.boundary_radius_error:.1e}", file=out)
