@@ -8,6 +8,7 @@ from qcremesh.beltrami.coefficient import beltrami_coefficient, metric_beltrami_
 from qcremesh.geometry.intrinsic import intrinsic_cotmatrix, intrinsic_delaunay, negative_cotangent_weights
 from qcremesh.geometry.operators import cotmatrix, signed_doublearea
 from qcremesh.mesh.io import read_mesh
+from qcremesh.mesh.topology import face_edge_lengths
 from qcremesh.param.tutte import tutte_embedding
 
 
@@ -20,10 +21,6 @@ def squeezed_triangulation(seed=1):
     return uv, np.column_stack([uv, np.zeros(len(uv))]), F
 
 
-def side_lengths(V, F):
-    return np.linalg.norm(V[np.roll(F, -1, axis=1)] - V[F], axis=2)
-
-
 def test_intrinsic_delaunay_of_a_flat_domain_is_its_delaunay_triangulation():
     """On a flat convex domain the intrinsic Delaunay triangulation is the Delaunay
     triangulation of the points: the flips recover Qhull's from the squeezed one (23 % of
@@ -34,7 +31,7 @@ def test_intrinsic_delaunay_of_a_flat_domain_is_its_delaunay_triangulation():
     G, lengths, twin, flips = intrinsic_delaunay(V, F)
     assert flips > 0 and G.shape == F.shape
     assert {tuple(sorted(f)) for f in G} == {tuple(sorted(f)) for f in Delaunay(uv).simplices}
-    np.testing.assert_allclose(lengths, side_lengths(V, G), atol=1e-14)
+    np.testing.assert_allclose(lengths, face_edge_lengths(V, G), atol=1e-14)
     h = np.flatnonzero(twin >= 0)
     np.testing.assert_array_equal(twin[twin[h]], h)
     np.testing.assert_array_equal(G.ravel()[h], np.roll(G, -1, axis=1).ravel()[twin[h]])
@@ -47,7 +44,7 @@ def test_intrinsic_cotmatrix():
     """Of an embedded triangulation, the cotangent Laplacian from its side lengths alone;
     after the flips, no negative weight on an interior edge, and constants in its kernel."""
     _, V, F = squeezed_triangulation()
-    L = intrinsic_cotmatrix(F, side_lengths(V, F), len(V))
+    L = intrinsic_cotmatrix(F, face_edge_lengths(V, F), len(V))
     np.testing.assert_allclose(L.toarray(), cotmatrix(V, F).toarray(), atol=1e-9)
     G, lengths, twin, _ = intrinsic_delaunay(V, F)
     L = intrinsic_cotmatrix(G, lengths, len(V)).tocoo()
@@ -65,10 +62,10 @@ def test_metric_beltrami_coefficient_of_a_surface():
     0.3 on every face."""
     V, F = read_mesh(DATA / "fran_cut.ply")
     T = tutte_embedding(F)
-    mu = metric_beltrami_coefficient(T, F, side_lengths(V, F))
+    mu = metric_beltrami_coefficient(T, F, face_edge_lengths(V, F))
     np.testing.assert_allclose(mu, beltrami_coefficient(T, F, V), atol=1e-12)
     uv, F = grid_disk(6, jitter=0.3)
     z = uv[:, 0] + 1j * uv[:, 1]
     w = z + 0.3 * np.conj(z)
     target = np.column_stack([w.real, w.imag, np.zeros(len(w))])
-    np.testing.assert_allclose(metric_beltrami_coefficient(uv, F, side_lengths(target, F)), 0.3, atol=1e-12)
+    np.testing.assert_allclose(metric_beltrami_coefficient(uv, F, face_edge_lengths(target, F)), 0.3, atol=1e-12)

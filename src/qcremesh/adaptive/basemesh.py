@@ -203,9 +203,9 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
         drop = 2 * (excess[a] + excess[b] - excess[c] - excess[d]) - (
             boundary[a].astype(int) + boundary[b] + boundary[c] + boundary[d]
         )
-        valence = count  # interior vertices: as many neighbours as faces
-        interior_ok = (on[a] | (valence[a] > 5)) & (on[b] | (valence[b] > 5)) & (on[c] | (valence[c] < 7)) & (
-            on[d] | (valence[d] < 7)
+        # an interior vertex has as many neighbours as faces
+        interior_ok = (on[a] | (count[a] > 5)) & (on[b] | (count[b] > 5)) & (on[c] | (count[c] < 7)) & (
+            on[d] | (count[d] < 7)
         )
         old, new, embedded = _flip_quality(uv, X, F, f1, f2, a, b, c, d)
         ok = (drop > 0) & interior_ok & (new >= np.maximum(VALENCE_FLIP_QUALITY, old)) & embedded

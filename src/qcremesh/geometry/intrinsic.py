@@ -22,7 +22,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ..mesh.topology import twin_half_edges
+from ..mesh.topology import face_edge_lengths, twin_half_edges
+from .triangulation import best_ranked
 
 __all__ = ["intrinsic_delaunay", "intrinsic_cotmatrix", "negative_cotangent_weights"]
 
@@ -55,8 +56,7 @@ def negative_cotangent_weights(V, F):
     """Share of the interior edges of a mesh whose cotangent weight cot alpha + cot beta
     is negative (the two angles opposite the edge sum to more than pi: not Delaunay)."""
     F = np.asarray(F, dtype=np.int64)
-    lengths = np.linalg.norm(V[np.roll(F, -1, axis=1)] - V[F], axis=2)
-    cot = _cotangents(lengths).ravel()
+    cot = _cotangents(face_edge_lengths(V, F)).ravel()
     twin = _half_edge_twins(F)
     h = np.flatnonzero(twin > np.arange(len(twin)))
     if len(h) == 0:
@@ -88,9 +88,8 @@ def intrinsic_delaunay(V, F, rounds=1000):
     flips : int
     """
     F = np.array(F, dtype=np.int64)
-    V = np.asarray(V, dtype=np.float64)
     m = len(F)
-    L = np.linalg.norm(V[np.roll(F, -1, axis=1)] - V[F], axis=2)
+    L = face_edge_lengths(V, F)
     twin = _half_edge_twins(F)
     flips = 0
     cot = _cotangents(L).ravel()
@@ -110,12 +109,7 @@ def intrinsic_delaunay(V, F, rounds=1000):
         # the two faces and the faces across their four outer sides: no two flips of a
         # round may touch one, so the outer twins can be relinked independently
         outer = [twin[3 * f + (k + r) % 3] // 3 for f, k in ((f1, k1), (f2, k2)) for r in (1, 2)]
-        touched = [f1, f2] + [np.where(o >= 0, o, f1) for o in outer]
-        rank = np.arange(len(h))
-        best = np.full(m, len(h))
-        for f in touched:
-            np.minimum.at(best, f, rank)
-        take = np.logical_and.reduce([best[f] == rank for f in touched])
+        take = best_ranked([f1, f2] + [np.where(o >= 0, o, f1) for o in outer], m)
         # the candidates left out wait for a later round
         waiting = h[~take]
         h, t, f1, k1, f2, k2 = h[take], t[take], f1[take], k1[take], f2[take], k2[take]

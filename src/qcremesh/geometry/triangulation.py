@@ -9,7 +9,7 @@ from ..mesh.topology import half_edges, twin_half_edges
 from .locate import locate_points
 from .operators import signed_doublearea
 
-__all__ = ["insert_points", "flip_edges", "delaunay_flips"]
+__all__ = ["insert_points", "flip_edges", "delaunay_flips", "best_ranked"]
 
 
 def insert_points(uv, F, points):
@@ -41,6 +41,27 @@ def insert_points(uv, F, points):
         F = np.concatenate([F, np.column_stack([b, c, p]), np.column_stack([c, a, p])])
         points = np.delete(points, first)
     return F
+
+
+def best_ranked(owners, size):
+    """Which candidates, in order of rank (0 best), rank first at every owner they touch:
+    a set of candidates of which no two share an owner (faces or vertices a flip changes).
+
+    Parameters
+    ----------
+    owners : list of (c,) int
+        For each kind of owner, the owner of each candidate (indices below ``size``).
+    size : int
+
+    Returns
+    -------
+    (c,) bool
+    """
+    rank = np.arange(len(owners[0]))
+    best = np.full(size, len(rank))
+    for owner in owners:
+        np.minimum.at(best, owner, rank)
+    return np.logical_and.reduce([best[owner] == rank for owner in owners])
 
 
 def flip_edges(F, gain_of, rounds, disjoint="faces"):
@@ -84,13 +105,8 @@ def flip_edges(F, gain_of, rounds, disjoint="faces"):
         if len(candidates) == 0:
             break
         candidates = candidates[np.argsort(-gain[candidates], kind="stable")]
-        rank = np.arange(len(candidates))
         owners = (f1, f2) if disjoint == "faces" else (a, b, c, d)
-        best = np.full(max(m, int(F.max()) + 1), len(candidates))
-        for owner in owners:
-            np.minimum.at(best, owner[candidates], rank)
-        first = np.logical_and.reduce([best[owner[candidates]] == rank for owner in owners])
-        take = candidates[first]
+        take = candidates[best_ranked([owner[candidates] for owner in owners], max(m, int(F.max()) + 1))]
         F[f1[take]] = np.column_stack([a, d, c])[take]
         F[f2[take]] = np.column_stack([d, b, c])[take]
         flips += len(take)

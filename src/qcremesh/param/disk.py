@@ -266,9 +266,7 @@ def _map_on(V, F, bnd, T, lengths, times):
     # Faces of the input that the map folds (needles, or faces across the obtuse angles
     # whose cotangent weights are negative) are unfolded after the normalization, which
     # could turn a face left nearly flat over.
-    repaired = int(np.count_nonzero(signed_doublearea(np.column_stack([z.real, z.imag]), F) <= 0))
-    if repaired:
-        z = _untangle(z, F, bnd)
+    z, repaired, folded = _untangle(z, F, bnd)
     uv = np.column_stack([z.real, z.imag])
     t4 = time.perf_counter()
     times["lbs"] = times.get("lbs", 0.0) + t4 - t3
@@ -277,7 +275,6 @@ def _map_on(V, F, bnd, T, lengths, times):
     # have no finite mu.
     with np.errstate(divide="ignore", invalid="ignore"):
         mu = beltrami_coefficient(uv, F, V)
-    folded = int(np.count_nonzero(signed_doublearea(uv, F) <= 0))
     times["measure"] = times.get("measure", 0.0) + time.perf_counter() - t4
     narrowest = int(np.count_nonzero((omega > 0) & (omega < MIN_BOUNDARY_ARC / (2 * np.pi))))
     return DiskMap(uv, mu, tutte, bnd, center, folded, repaired, narrowest)
@@ -367,7 +364,13 @@ def _untangle(z, F, bnd):
     their neighbours (one Jacobi sweep of the uniform Laplacian there, the rest staying),
     until no face is folded or after ``UNTANGLE_ROUNDS`` rounds. A Tutte embedding folds
     no face, and the few faces a harmonic map folds are needles whose neighbourhood it
-    maps well, so this ends within a few rounds and moves few vertices."""
+    maps well, so this ends within a few rounds and moves few vertices.
+
+    Returns the map, the number of faces folded (signed area <= 0) before and after."""
+    folded = signed_doublearea(np.column_stack([z.real, z.imag]), F) <= 0
+    before = int(np.count_nonzero(folded))
+    if before == 0:
+        return z, 0, 0
     n = len(z)
     A = adjacency_matrix(F, n)
     degree = np.asarray(A.sum(axis=1)).ravel()
@@ -375,11 +378,11 @@ def _untangle(z, F, bnd):
     interior[bnd] = False
     z = z.copy()
     for _ in range(UNTANGLE_ROUNDS):
-        folded = signed_doublearea(np.column_stack([z.real, z.imag]), F) <= 0
-        if not folded.any():
-            break
         region = np.zeros(n, dtype=bool)
         region[F[folded].ravel()] = True
         v = np.flatnonzero((region | (A @ region > 0)) & interior)
         z[v] = (A[v] @ z) / degree[v]
-    return z
+        folded = signed_doublearea(np.column_stack([z.real, z.imag]), F) <= 0
+        if not folded.any():
+            break
+    return z, before, int(np.count_nonzero(folded))

@@ -454,6 +454,8 @@ def remesh(
             done("subdivide")
 
             mu = None
+            # Where the relaxation starts on the level below the output (coarse to fine).
+            coarse_uv = hierarchy[-2][0] if levels > 0 else None
             # With the relaxation, which takes the level below the output first, the
             # Teichmueller map is that level's (a quarter of the faces; the base mesh itself
             # for one level, which the map leaves as it is).
@@ -479,7 +481,10 @@ def remesh(
                 # the same coefficient (the equilateral frames of the children are the
                 # parent's, up to half turns).
                 mu = np.repeat(tm.mu, 4 ** (-1 - mapped))
-                uv = tm.uv if mapped == -1 else subdivide_disk_mesh(tm.uv, map_F, 1)[-1][0]
+                if mapped == -1:
+                    uv = tm.uv
+                else:
+                    coarse_uv = tm.uv
                 run.update(
                     teichmuller_k=float(tm.k),
                     teichmuller_iterations=int(tm.iterations),
@@ -500,7 +505,7 @@ def remesh(
                     # Coarse to fine: the level below the output takes the sweeps (a quarter of
                     # the vertices, twice the reach per sweep), and its relaxed subdivision a
                     # quarter as many.
-                    coarse_uv, coarse_F = uv[: len(hierarchy[-2][0])], hierarchy[-2][1]
+                    coarse_F = hierarchy[-2][1]
                     coarse_uv, _ = relax_on_surface(
                         dm.uv, F, V, coarse_uv, coarse_F, iterations=relax, pinned=pinned[: len(coarse_uv)],
                         boundary_scale=2 * scale, min_quality=0,
