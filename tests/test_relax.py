@@ -6,6 +6,7 @@ from conftest import grid_disk
 from qcremesh.adaptive.basemesh import delaunay_disk_mesh, hexagonal_disk_points
 from qcremesh.geometry.locate import locate_points
 from qcremesh.geometry.quality import radius_ratio
+from qcremesh.mesh.subdivide import upsample
 from qcremesh.mesh.topology import adjacency_matrix, boundary_loop, vertex_face_incidence
 from qcremesh.remeshing.onsurface import closest_point_near
 from qcremesh.remeshing import relax
@@ -185,3 +186,31 @@ def test_faces_left_below_the_floor_get_their_rings_smoothed_together(monkeypatc
     monkeypatch.setattr(relax, "UNJAM_SWEEPS", 0)
     _, new_X = relax_on_surface(uv_in, F, V, uv, Fo, iterations=0, snap=0, rounds=2)
     assert radius_ratio(new_X, Fo).min() < 0.3
+
+
+def test_vertices_located_from_known_faces_land_where_the_search_puts_them():
+    """Located by a walk from the faces of a coarser level (and a neighbour's, for the
+    midpoints; and from a face across the disk for a few), the vertices of a subdivided
+    mesh of a paraboloid land where the search of the whole disk map puts them, and the
+    faces returned contain them."""
+    V, F, uv_in = flat_disk(0.04)
+    V[:, 2] = (uv_in**2).sum(1)
+    _, Fc, uv_c = flat_disk(0.2)
+    uv_c, _, faces_c = relax_on_surface(uv_in, F, V, uv_c, Fc, iterations=0, snap=0, min_quality=0, return_faces=True)
+    bnd_c = boundary_loop(Fc)
+    assert (faces_c[bnd_c] == -1).all() and (np.delete(faces_c, bnd_c) >= 0).all()
+    uv, Fo = upsample(uv_c, Fc, 1)
+    hint = np.r_[faces_c, np.full(len(uv) - len(uv_c), -1)]
+    inner = np.flatnonzero(hint >= 0)
+    hint[inner[::7]] = hint[inner[::7][::-1]]  # far from their own faces
+    kwargs = dict(iterations=0, snap=0, min_quality=0, return_faces=True)
+    _, X_search, _ = relax_on_surface(uv_in, F, V, uv, Fo, **kwargs)
+    _, X_walk, faces = relax_on_surface(uv_in, F, V, uv, Fo, faces=hint, **kwargs)
+    np.testing.assert_allclose(X_walk, X_search, atol=1e-12)
+    inside = faces >= 0
+    assert inside.sum() == len(uv) - len(boundary_loop(Fo))
+    a, b, c = np.moveaxis(uv_in[F[faces[inside]]], 1, 0)
+    p = uv[inside]
+    for e0, e1 in ((a, b), (b, c), (c, a)):  # p on the left of every side, up to rounding
+        d, r = e1 - e0, p - e0
+        assert (d[:, 0] * r[:, 1] - d[:, 1] * r[:, 0] >= -1e-15).all()

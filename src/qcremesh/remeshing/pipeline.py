@@ -501,18 +501,24 @@ def remesh(
                 pinned[: len(theta)] = corner
                 scale = boundary_spacing
                 sweeps = relax
+                faces_hint = None
                 if method in ("subdivided", "teichmuller") and levels > 0:
                     # Coarse to fine: the level below the output takes the sweeps (a quarter of
                     # the vertices, twice the reach per sweep), and its relaxed subdivision a
                     # quarter as many.
                     coarse_F = hierarchy[-2][1]
-                    coarse_uv, _ = relax_on_surface(
+                    coarse_uv, _, coarse_faces = relax_on_surface(
                         dm.uv, F, V, coarse_uv, coarse_F, iterations=relax, pinned=pinned[: len(coarse_uv)],
-                        boundary_scale=2 * scale, min_quality=0,
+                        boundary_scale=2 * scale, min_quality=0, return_faces=True,
                     )
                     uv = subdivide_disk_mesh(coarse_uv, coarse_F, 1)[-1][0]
+                    # The coarse vertices keep their input faces; the new ones are found
+                    # from them.
+                    faces_hint = np.r_[coarse_faces, np.full(len(uv) - len(coarse_uv), -1)]
                     sweeps = max(relax // 4, 1)
-                uv, Vo = relax_on_surface(dm.uv, F, V, uv, Fo, iterations=sweeps, pinned=pinned, boundary_scale=scale)
+                uv, Vo = relax_on_surface(
+                    dm.uv, F, V, uv, Fo, iterations=sweeps, pinned=pinned, boundary_scale=scale, faces=faces_hint
+                )
                 done("relax")
             return uv, Fo, hierarchy, Vo, mu, run
 

@@ -34,7 +34,7 @@ from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
 from ..mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
 from .min_quality import QUALITY_FLOOR, raise_min_quality
-from .onsurface import BoundaryCurve, closest_point_near
+from .onsurface import BoundaryCurve, closest_point_near, csr_rows
 from .snap import snap_to_far_points
 
 __all__ = ["relax_on_surface"]
@@ -43,6 +43,13 @@ __all__ = ["relax_on_surface"]
 # vertices within this many rings of the faces below it, before the search goes on.
 UNJAM_RINGS = 3
 UNJAM_SWEEPS = 5
+
+# A point within this fraction of the longest side of a face from it lies in it (rounding
+# at the edges; as locate_points).
+LOCATE_RTOL = 1e-12
+
+# Most rounds of the walk that locates a vertex in the disk map from a face near it.
+WALK_ROUNDS = 64
 
 
 def _vertex_normals(X, Fo, VF):
@@ -70,6 +77,43 @@ def _smooth(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, st
     new_face[verts], new_X[verts] = f, cp
     new_uv[verts] = interpolate_barycentric(F, f, b, disk_uv)
     return new_X, new_uv, new_face
+
+
+def _locate(disk_uv, F, vertex_faces, A, uv, inner, hint):
+    """Input faces under the interior vertices ``inner`` and the barycentric coordinates of
+    their disk positions in them, (p,) and (p, 3).
+
+    A vertex whose input face is known (``hint``, (k,) int, -1 where not) or one of whose
+    neighbours' is, is found by a walk in the disk map from that face
+    (:func:`~qcremesh.remeshing.onsurface.closest_point_near`): a few faces away where the
+    hint is the face of an endpoint of the edge the vertex subdivides. The walk ends in
+    the face containing the point (the distance to the faces around the current one
+    decreases on a planar triangulation); the others, and those whose walk stopped short
+    of their face, are located by :func:`~qcremesh.geometry.locate.locate_points`.
+    """
+    start = hint[inner].copy()
+    todo = np.flatnonzero(start < 0)
+    if len(todo):
+        ring, owner = csr_rows(A, inner[todo])
+        known = hint[ring] >= 0
+        ring, owner = ring[known], owner[known]
+        _, first = np.unique(owner, return_index=True)
+        start[todo[owner[first]]] = hint[ring[first]]
+    face = np.full(len(inner), -1, dtype=np.int64)
+    bary = np.zeros((len(inner), 3))
+    walk = np.flatnonzero(start >= 0)
+    if len(walk):
+        P = np.column_stack([uv[inner[walk]], np.zeros(len(walk))])
+        flat = np.column_stack([disk_uv, np.zeros(len(disk_uv))])
+        f, closest, b = closest_point_near(P, start[walk], flat, F, vertex_faces, rounds=WALK_ROUNDS)
+        corners = flat[F[f]]
+        longest = np.linalg.norm(np.roll(corners, -1, axis=1) - corners, axis=2).max(1)
+        inside = np.linalg.norm(closest - P, axis=1) <= LOCATE_RTOL * longest
+        face[walk[inside]], bary[walk[inside]] = f[inside], b[inside]
+    rest = np.flatnonzero(face < 0)
+    if len(rest):
+        face[rest], bary[rest], _ = locate_points(disk_uv, F, uv[inner[rest]], rtol=LOCATE_RTOL)
+    return face, bary
 
 
 def _undo_folds(new_X, new_uv, new_face, X, uv, face, Fo):
@@ -102,6 +146,8 @@ def relax_on_surface(
     snap=0.5,
     min_quality=0.66,
     rounds=300,
+    faces=None,
+    return_faces=False,
 ):
     """Move the vertices of a mesh of the disk so that its image on the surface gets more
     regular, without changing its connectivity.
@@ -157,6 +203,14 @@ def relax_on_surface(
         count 0.38 / 0.61 / 0.37 / 0.60 -> 0.38 / 0.60 / 0.45 / 0.64 %).
     rounds : int
         Maximum number of rounds of the minimum-quality search.
+    faces : (k,) int, optional
+        Input face under each vertex where known, -1 elsewhere (the faces returned for
+        the level this one subdivides, say): such a vertex, and a neighbour of it, are
+        located in the disk map by a walk from that face instead of a search of the
+        whole map (the output level of hand.ply at its face count, 53k vertices: 0.07 s
+        instead of 0.17 s; human_face.obj 0.02 s instead of 0.09 s).
+    return_faces : bool
+        Also return the input face under each vertex.
 
     Returns
     -------
@@ -164,6 +218,8 @@ def relax_on_surface(
         New disk positions.
     X : (k, 3) float
         Their positions on the surface.
+    faces : (k,) int64
+        With ``return_faces``: the input face under each vertex, -1 on the boundary.
     """
     uv = np.array(uv, dtype=np.float64)
     k = len(uv)
@@ -183,9 +239,10 @@ def relax_on_surface(
     vertex_faces = vertex_face_incidence(F, len(V))
     VF = vertex_face_incidence(Fo, k)
 
+    hint = np.full(k, -1, dtype=np.int64) if faces is None else np.asarray(faces, dtype=np.int64)
     face = np.full(k, -1, dtype=np.int64)  # input face under each vertex; -1: boundary
     X = np.zeros((k, 3))
-    face[inner], bary, _ = locate_points(disk_uv, F, uv[inner])
+    face[inner], bary = _locate(disk_uv, F, vertex_faces, A, uv, inner, hint)
     X[inner] = interpolate_barycentric(F, face[inner], bary, V)
     theta = np.arctan2(uv[bnd, 1], uv[bnd, 0])
     X[bnd] = interpolate_on_boundary(curve.theta, curve.points, theta)
@@ -242,4 +299,4 @@ def relax_on_surface(
                 X, uv, face, s, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, curve, min_quality,
                 max(rounds // 12, 1),
             )
-    return uv, X
+    return (uv, X, face) if return_faces else (uv, X)
