@@ -1,0 +1,153 @@
+"""Candidate positions of an output vertex on the input surface, and the radius ratios
+of the faces around it there: what the two pattern searches of the relaxation share
+(:mod:`qcremesh.remeshing.min_quality`, :mod:`qcremesh.remeshing.regularize`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..geometry.locate import interpolate_barycentric
+from ..geometry.quality import radius_ratio
+from .onsurface import closest_point_near, csr_rows
+
+__all__ = [
+    "DIRECTIONS",
+    "input_face_normals",
+    "input_up",
+    "mean_edge_length",
+    "star_radius_ratios",
+    "surface_side_quality",
+    "tangent_candidates",
+]
+
+# Directions of the tangent plane the candidates are offset in.
+DIRECTIONS = 8
+
+
+def input_face_normals(V, F):
+    """Unit normals of the input faces, (m, 3)."""
+    normals = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    return normals / np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-300)
+
+
+def surface_side_quality(X, T, up):
+    """Radius ratio of faces ``T`` of a mesh on a surface, negated where the face is
+    turned over: its normal makes more than 90 degrees with ``up``, the normal of the
+    input surface under it. (f,) for T (f, 3), up (f, 3)."""
+    P = X[T]
+    normal = np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
+    return np.where((normal * up).sum(1) >= 0, 1.0, -1.0) * radius_ratio(X, T)
+
+
+def input_up(T, face, input_normals):
+    """Normal of the input surface under interior output faces ``T``: the sum of the
+    input face normals at their three vertices (``face`` is the input face each output
+    vertex lies on, -1 on the boundary), (f, 3). Faces with a boundary vertex get zero
+    and are never taken as turned over: along a jagged scan border the input's normals
+    are too irregular to judge by. So do faces over a fold of the input, where the sum
+    of the three unit normals is shorter than 2 (one of them more than about 100 degrees
+    from the other two): a face across the two walls of a narrow pocket has no side, and
+    taken as turned over it blocked every move of its vertices (human_face at half its
+    face count, seed 1: min q 0.079, now 0.485)."""
+    up = input_normals[face[T]].sum(1)
+    up[(face[T] < 0).any(1) | (np.linalg.norm(up, axis=1) < 2.0)] = 0.0
+    return up
+
+
+def mean_edge_length(X, A, verts):
+    """Mean length of the edges at each vertex, (p,)."""
+    ring, owner = csr_rows(A, verts)
+    return np.bincount(owner, np.linalg.norm(X[ring] - X[verts[owner]], axis=1)) / np.bincount(owner)
+
+
+def tangent_candidates(X, Fo, VF, verts, reach, face, V, F, disk_uv, vertex_faces, steps):
+    """Candidate positions of interior vertices: offsets of ``steps`` times ``reach`` in
+    8 directions of the tangent plane of each vertex (the normal of its star), snapped
+    onto the input surface near the vertex's face.
+
+    Returns
+    -------
+    Xc : (p, c, 3) float
+    uvc : (p, c, 2) float
+        Surface and disk positions, c = 8 len(steps) per vertex.
+    fc : (p, c) int64
+        The input faces under them.
+    """
+    angles = 2 * np.pi * np.arange(DIRECTIONS) / DIRECTIONS
+    star, owner = csr_rows(VF, verts)
+    T = X[Fo[star]]
+    normal = np.stack(
+        [np.bincount(owner, c, len(verts)) for c in np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]).T], axis=1
+    )
+    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+    t1 = np.cross(normal, np.eye(3)[np.argmin(np.abs(normal), axis=1)])
+    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
+    t2 = np.cross(normal, t1)
+    offsets = (np.cos(angles)[:, None, None] * t1 + np.sin(angles)[:, None, None] * t2)[:, None]
+    offsets = offsets * (steps[None, :, None, None] * reach[:, None])
+    offsets = offsets.reshape(-1, len(verts), 3).transpose(1, 0, 2)  # (p, c, 3)
+    c = offsets.shape[1]
+    f, cp, b = closest_point_near(
+        (X[verts][:, None] + offsets).reshape(-1, 3), np.repeat(face[verts], c), V, F, vertex_faces
+    )
+    uvc = interpolate_barycentric(F, f, b, disk_uv).reshape(-1, c, 2)
+    return cp.reshape(-1, c, 3), uvc, f.reshape(-1, c)
+
+
+def star_radius_ratios(X, uv, Fo, VF, verts, Xc, uvc, face, input_normals):
+    """Radius ratio of every face around each vertex, for candidate positions of the
+    vertex.
+
+    With the vertex at a candidate position, each face of its star has edge lengths
+    a, b, c and twice the area 2A = |n| with n its normal, and radius ratio
+    q = 4 (2A)^2 / ((a + b + c) a b c). A candidate that folds a face in the disk
+    (non-positive signed area) or leaves it turned over on the surface (its normal more
+    than 90 degrees from the input's normal under it, see :func:`input_up`) gets -1 for
+    that face.
+
+    Parameters
+    ----------
+    X : (k, 3) float
+    uv : (k, 2) float
+    Fo : (l, 3) int
+    VF : (k, l) CSR
+        Vertex-face incidence of ``Fo``.
+    verts : (p,) int
+        Vertices to score, no two on a common face.
+    Xc : (p, c, 3) float
+    uvc : (p, c, 2) float
+        Candidate surface and disk positions of every vertex.
+    face : (k,) int
+        Input face each output vertex lies on.
+    input_normals : (m, 3) float
+        Unit normals of the input faces.
+
+    Returns
+    -------
+    q : (t, c) float
+        For the t faces of the stars, star after star.
+    starts : (p,) int
+        Row of ``q`` where each vertex's star starts.
+    """
+    star, owner = csr_rows(VF, verts)
+    T = Fo[star]
+    corner = np.argmax(T == verts[owner][:, None], axis=1)
+    P, U = X[T], uv[T]
+    surface_up = input_up(T, face, input_normals)
+    c = Xc.shape[1]
+    P = np.repeat(P[:, None], c, axis=1)
+    U = np.repeat(U[:, None], c, axis=1)
+    rows, cols = np.arange(len(star))[:, None], np.arange(c)[None, :]
+    P[rows, cols, corner[:, None]] = Xc[owner]
+    U[rows, cols, corner[:, None]] = uvc[owner]
+    e = np.roll(P, -1, axis=2) - P
+    length = np.linalg.norm(e, axis=3)
+    normal = np.cross(P[:, :, 1] - P[:, :, 0], P[:, :, 2] - P[:, :, 0])
+    dbl = np.linalg.norm(normal, axis=2)
+    den = length.sum(2) * length.prod(2)
+    q = np.divide(4 * dbl**2, den, out=np.zeros_like(den), where=den > 0)
+    a, b = U[:, :, 1] - U[:, :, 0], U[:, :, 2] - U[:, :, 0]
+    valid = (a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0] > 0) & ((normal * surface_up[:, None]).sum(2) >= 0)
+    starts = np.r_[0, np.cumsum(np.bincount(owner, minlength=len(verts)))[:-1]]
+    return np.where(valid, q, -1.0), starts
