@@ -509,7 +509,7 @@ def remesh(
                     coarse_F = hierarchy[-2][1]
                     coarse_uv, _, coarse_faces = relax_on_surface(
                         dm.uv, F, V, coarse_uv, coarse_F, iterations=relax, pinned=pinned[: len(coarse_uv)],
-                        boundary_scale=2 * scale, min_quality=0, return_faces=True,
+                        boundary_scale=2 * scale, min_quality=0, regular_rounds=0, return_faces=True,
                     )
                     uv = subdivide_disk_mesh(coarse_uv, coarse_F, 1)[-1][0]
                     # The coarse vertices keep their input faces; the new ones are found

@@ -21,7 +21,8 @@ more, where the search has mended the faces that stopped it, and a short search.
 faces stay below a radius ratio of 0.3, the vertices within 3 rings of them get 5 sweeps
 of smoothing together, which frees a vertex that no move of its own can help, and the
 search goes on (hand.ply subdivided once: 0.293 -> 0.496, where the landmarks had to be
-drawn again before).
+drawn again before). Last, a search raises the share of faces with a radius ratio of at
+least 0.9 (:mod:`qcremesh.remeshing.regularize`).
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ from ..geometry.quality import radius_ratio
 from ..mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
 from .min_quality import QUALITY_FLOOR, raise_min_quality
 from .onsurface import BoundaryCurve, closest_point_near, csr_rows
+from .regularize import raise_regular_fraction
 from .snap import snap_to_far_points
 
 __all__ = ["relax_on_surface"]
@@ -146,6 +148,7 @@ def relax_on_surface(
     snap=0.5,
     min_quality=0.66,
     rounds=300,
+    regular_rounds=20,
     faces=None,
     return_faces=False,
 ):
@@ -162,7 +165,9 @@ def relax_on_surface(
     half 0.33 -> 0.30 %; on the 7 disk meshes at both counts, 25 rounds there give the
     min q, mean q to 1e-4 and Hausdorff distance of 50; 10 rounds nearly so, hand.ply at
     half count 0.361 against 0.362). Last, where faces stay below 0.3, the rings around
-    them are smoothed together and the search gets ``rounds // 12`` rounds more.
+    them are smoothed together and the search gets ``rounds // 12`` rounds more. Last,
+    ``regular_rounds`` rounds of
+    :func:`qcremesh.remeshing.regularize.raise_regular_fraction`.
 
     Parameters
     ----------
@@ -203,6 +208,10 @@ def relax_on_surface(
         count 0.38 / 0.61 / 0.37 / 0.60 -> 0.38 / 0.60 / 0.45 / 0.64 %).
     rounds : int
         Maximum number of rounds of the minimum-quality search.
+    regular_rounds : int
+        Maximum number of rounds of the search that raises the share of faces with a
+        radius ratio of at least 0.9 (:mod:`qcremesh.remeshing.regularize`), last, with
+        the snapped vertices staying; 0 skips it.
     faces : (k,) int, optional
         Input face under each vertex where known, -1 elsewhere (the faces returned for
         the level this one subdivides, say): such a vertex, and a neighbour of it, are
@@ -299,4 +308,11 @@ def relax_on_surface(
                 X, uv, face, s, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, curve, min_quality,
                 max(rounds // 12, 1),
             )
+    if regular_rounds > 0:
+        # The snapped vertices and their neighbours, which shape the pockets the snapping
+        # followed, stay.
+        held = snapped | ((A @ snapped) > 0)
+        raise_regular_fraction(
+            X, uv, face, Fo, A, VF, free & ~held, V, F, disk_uv, vertex_faces, regular_rounds
+        )
     return (uv, X, face) if return_faces else (uv, X)

@@ -1,0 +1,130 @@
+"""The last stage of the relaxation: a search that raises the share of well-shaped faces.
+
+The smoothing sweeps leave faces a little off equilateral where the surface bends and
+around the base mesh's irregular vertices, and the minimum-quality search
+(:mod:`qcremesh.remeshing.min_quality`) only looks at the worst of them. This search
+moves the vertices of every star with a face below a radius ratio of 0.9, one
+independent set at a time, to the candidate position on the surface (tangent offsets of
+0.06, 0.15 and 0.3 times the mean edge length in 8 directions, snapped onto the surface;
+:func:`~qcremesh.remeshing.stars.tangent_candidates`) with the most faces of its star at
+or above 0.9, ties going to the higher mean of the radius ratios capped at 0.9. A move
+never lowers the star's smallest radius ratio (below 0.9) or its mean radius ratio, and
+never folds a face in the disk or turns one over on the surface. Boundary vertices,
+corners, and the vertices snapped onto the input with their neighbours stay.
+
+Measured at 20 rounds against none, on the seven disk meshes of ``../shared/data`` other
+than camel_b at their face count and half of it: faces with q > 0.9 up on all 14 runs
+(human_face 98.4 / 96.6 -> 98.6 / 97.0 %, human_brain 98.5 / 96.3 -> 98.8 / 97.1 %,
+fran_cut at half 95.7 -> 96.3 %), mean radius ratio the same or higher (up to 6e-4),
+smallest the same or higher (head_neck_cut 0.667 -> 0.702, foot at half 0.661 ->
+0.705); Hausdorff distance the same but on hand.ply, human_brain and venus at half
+(0.24 -> 0.26, 0.58 -> 0.62, 2.16 -> 2.25 %) and fran_cut (0.90 -> 0.91 %); 0.07 s on
+human_face.obj, 0.2-0.3 s on human_brain.ply. Moving the neighbours of the snapped
+vertices too: human_brain at half 0.68 %. Scoring the faces above 0.9 alone, without
+holding the star's mean, raised their share more (human_face 98.9 / 97.5 %, human_brain
+99.1 / 97.8 %) by pushing faces just over 0.9 at the expense of others: camel_b's mean
+radius ratio fell 0.919 -> 0.912 and its Hausdorff distance rose 1.69 -> 2.81 %. Five
+step lengths (0.02 and 0.5 as well) took longer for less; the position at which each
+face of the star would be equilateral, averaged, as the only direction gained half as
+much.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .onsurface import csr_rows, independent_first
+from .stars import (
+    input_face_normals,
+    input_up,
+    mean_edge_length,
+    star_radius_ratios,
+    surface_side_quality,
+    tangent_candidates,
+)
+
+__all__ = ["GOOD_QUALITY", "raise_regular_fraction"]
+
+# Radius ratio from which a face counts as well shaped.
+GOOD_QUALITY = 0.9
+_STEPS = np.array([0.06, 0.15, 0.3])
+
+
+def raise_regular_fraction(X, uv, face, Fo, A, VF, movable, V, F, disk_uv, vertex_faces, rounds):
+    """Pattern search that raises the number of faces with a radius ratio of at least
+    0.9, in place (see the module documentation).
+
+    Each round takes the movable vertices with a face below 0.9 around them, keeps an
+    independent set of them (worst star first), and moves each to the best of its
+    candidate positions, if that is better than where it is. A vertex that found none is
+    left alone until a neighbour moves. The search stops after ``rounds`` rounds or when
+    no vertex is left to try.
+
+    Parameters
+    ----------
+    X : (k, 3) float
+        Output vertices on the surface (updated).
+    uv : (k, 2) float
+        Their disk positions (updated).
+    face : (k,) int
+        Input face under each output vertex (updated).
+    Fo : (l, 3) int
+        Output faces.
+    A : (k, k) CSR
+        Vertex adjacency of ``Fo``.
+    VF : (k, l) CSR
+        Vertex-face incidence of ``Fo``.
+    movable : (k,) bool
+        Interior vertices that may move.
+    V : (n, 3) float
+    F : (m, 3) int
+        The input surface.
+    disk_uv : (n, 2) float
+        Its disk parameterization.
+    vertex_faces : (n, m) sparse
+        Vertex-face incidence of the input.
+    rounds : int
+        Maximum number of rounds.
+    """
+    k = len(X)
+    input_normals = input_face_normals(V, F)
+    q = surface_side_quality(X, Fo, input_up(Fo, face, input_normals))
+    qv = np.minimum.reduceat(q[VF.indices], VF.indptr[:-1])
+    stuck = np.zeros(k, dtype=bool)
+    for _ in range(rounds):
+        act = np.flatnonzero((qv < GOOD_QUALITY) & movable & ~stuck)
+        if len(act) == 0:
+            break
+        act = act[np.lexsort((act, qv[act]))]
+        sel = np.sort(act[independent_first(A, act)])
+        Xc, uvc, fc = tangent_candidates(
+            X, Fo, VF, sel, mean_edge_length(X, A, sel), face, V, F, disk_uv, vertex_faces, _STEPS
+        )
+        # Candidate 0: where the vertex is.
+        Xc = np.concatenate([X[sel][:, None], Xc], axis=1)
+        uvc = np.concatenate([uv[sel][:, None], uvc], axis=1)
+        fc = np.concatenate([face[sel][:, None], fc], axis=1)
+        qc, starts = star_radius_ratios(X, uv, Fo, VF, sel, Xc, uvc, face, input_normals)
+        size = np.diff(np.r_[starts, len(qc)])
+        score = np.add.reduceat(
+            (qc >= GOOD_QUALITY) + np.minimum(qc, GOOD_QUALITY) / np.repeat(size, size)[:, None], starts, axis=0
+        )
+        # No move lowers the star's smallest radius ratio (below 0.9) or its mean, or leaves
+        # a face folded in the disk or turned over on the surface (-1); a star with such a
+        # face is left to the minimum-quality search.
+        lowest = np.minimum.reduceat(qc, starts, axis=0)
+        total = np.add.reduceat(qc, starts, axis=0)
+        score[(lowest < 0) | (lowest < np.minimum(lowest[:, :1], GOOD_QUALITY)) | (total < total[:, :1])] = -np.inf
+        j = np.argmax(score, axis=1)
+        rows = np.arange(len(sel))
+        better = (score[rows, j] > score[:, 0] + 1e-6) & (lowest[:, 0] >= 0)
+        moved = sel[better]
+        X[moved], uv[moved], face[moved] = Xc[rows, j][better], uvc[rows, j][better], fc[rows, j][better]
+        stuck[sel[~better]] = True
+        if len(moved):
+            stuck[csr_rows(A, moved)[0]] = False
+            touched = np.unique(csr_rows(VF, moved)[0])
+            q[touched] = surface_side_quality(X, Fo[touched], input_up(Fo[touched], face, input_normals))
+            around = np.unique(Fo[touched])
+            star, owner = csr_rows(VF, around)
+            qv[around] = np.minimum.reduceat(q[star], np.r_[0, np.cumsum(np.bincount(owner))[:-1]])
