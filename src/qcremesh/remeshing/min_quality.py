@@ -11,15 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .onsurface import csr_rows, independent_first
-from .stars import (
-    input_face_normals,
-    input_up,
-    mean_edge_length,
-    star_radius_ratios,
-    surface_side_quality,
-    tangent_candidates,
-)
+from .onsurface import csr_rows
+from .stars import StarQuality, input_face_normals, mean_edge_length, star_radius_ratios, tangent_candidates
 
 __all__ = ["QUALITY_FLOOR", "raise_min_quality"]
 
@@ -103,19 +96,15 @@ def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_u
     # counter-clockwise in the disk and still face into the surface) count as negative
     # quality, so the search turns them back first.
     input_normals = input_face_normals(V, F)
-    q = surface_side_quality(X, Fo, input_up(Fo, face, input_normals))
-    qv = np.minimum.reduceat(q[VF.indices], VF.indptr[:-1])
+    quality = StarQuality(X, Fo, VF, face, input_normals)
+    q, qv = quality.q, quality.qv
     stuck = np.zeros(k, dtype=bool)
     best, since = q.min(), 0
     for _ in range(rounds):
         active = (qv < target) & ~pinned & ~stuck & ~(held & (qv >= QUALITY_FLOOR))
         if not active.any() or since >= _PATIENCE:
             break
-        # An independent set: the active vertices whose star is worse than any active
-        # neighbour's (ties by index), so no two moving vertices share a face.
-        act = np.flatnonzero(active)
-        act = act[np.lexsort((act, qv[act]))]
-        sel = np.sort(act[independent_first(A, act)])
+        sel = quality.worst_independent(A, active)
         reach = np.zeros(k)
         reach[sel] = mean_edge_length(X, A, sel)
         on_bnd = where_bnd[sel] >= 0
@@ -159,10 +148,6 @@ def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_u
         moved = sel[gain]
         if len(moved):
             stuck[csr_rows(A, moved)[0]] = False
-            touched = np.unique(csr_rows(VF, moved)[0])
-            q[touched] = surface_side_quality(X, Fo[touched], input_up(Fo[touched], face, input_normals))
-            around = np.unique(Fo[touched])
-            star, owner = csr_rows(VF, around)
-            qv[around] = np.minimum.reduceat(q[star], np.r_[0, np.cumsum(np.bincount(owner))[:-1]])
+            quality.update(X, face, moved)
         since = 0 if q.min() > best else since + 1
         best = max(best, q.min())

@@ -33,15 +33,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .onsurface import csr_rows, independent_first
-from .stars import (
-    input_face_normals,
-    input_up,
-    mean_edge_length,
-    star_radius_ratios,
-    surface_side_quality,
-    tangent_candidates,
-)
+from .onsurface import csr_rows
+from .stars import StarQuality, input_face_normals, mean_edge_length, star_radius_ratios, tangent_candidates
 
 __all__ = ["GOOD_QUALITY", "raise_regular_fraction"]
 
@@ -88,15 +81,13 @@ def raise_regular_fraction(X, uv, face, Fo, A, VF, movable, V, F, disk_uv, verte
     """
     k = len(X)
     input_normals = input_face_normals(V, F)
-    q = surface_side_quality(X, Fo, input_up(Fo, face, input_normals))
-    qv = np.minimum.reduceat(q[VF.indices], VF.indptr[:-1])
+    quality = StarQuality(X, Fo, VF, face, input_normals)
     stuck = np.zeros(k, dtype=bool)
     for _ in range(rounds):
-        act = np.flatnonzero((qv < GOOD_QUALITY) & movable & ~stuck)
-        if len(act) == 0:
+        active = (quality.qv < GOOD_QUALITY) & movable & ~stuck
+        if not active.any():
             break
-        act = act[np.lexsort((act, qv[act]))]
-        sel = np.sort(act[independent_first(A, act)])
+        sel = quality.worst_independent(A, active)
         Xc, uvc, fc = tangent_candidates(
             X, Fo, VF, sel, mean_edge_length(X, A, sel), face, V, F, disk_uv, vertex_faces, _STEPS
         )
@@ -123,8 +114,4 @@ def raise_regular_fraction(X, uv, face, Fo, A, VF, movable, V, F, disk_uv, verte
         stuck[sel[~better]] = True
         if len(moved):
             stuck[csr_rows(A, moved)[0]] = False
-            touched = np.unique(csr_rows(VF, moved)[0])
-            q[touched] = surface_side_quality(X, Fo[touched], input_up(Fo[touched], face, input_normals))
-            around = np.unique(Fo[touched])
-            star, owner = csr_rows(VF, around)
-            qv[around] = np.minimum.reduceat(q[star], np.r_[0, np.cumsum(np.bincount(owner))[:-1]])
+            quality.update(X, face, moved)

@@ -9,10 +9,11 @@ import numpy as np
 
 from ..geometry.locate import interpolate_barycentric
 from ..geometry.quality import radius_ratio
-from .onsurface import closest_point_near, csr_rows
+from .onsurface import closest_point_near, csr_rows, independent_first
 
 __all__ = [
     "DIRECTIONS",
+    "StarQuality",
     "input_face_normals",
     "input_up",
     "mean_edge_length",
@@ -151,3 +152,40 @@ def star_radius_ratios(X, uv, Fo, VF, verts, Xc, uvc, face, input_normals):
     valid = (a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0] > 0) & ((normal * surface_up[:, None]).sum(2) >= 0)
     starts = np.r_[0, np.cumsum(np.bincount(owner, minlength=len(verts)))[:-1]]
     return np.where(valid, q, -1.0), starts
+
+
+class StarQuality:
+    """The radius ratio of every output face, negated where the face is turned over on
+    the surface (:func:`surface_side_quality`), and the smallest of them around every
+    vertex, kept up to date as vertices move.
+
+    Attributes
+    ----------
+    q : (l,) float
+        Per face.
+    qv : (k,) float
+        Per vertex: the smallest ``q`` of its star.
+    """
+
+    def __init__(self, X, Fo, VF, face, input_normals):
+        self.Fo, self.VF, self.input_normals = Fo, VF, input_normals
+        self.q = surface_side_quality(X, Fo, input_up(Fo, face, input_normals))
+        self.qv = np.minimum.reduceat(self.q[VF.indices], VF.indptr[:-1])
+
+    def worst_independent(self, A, active):
+        """The ``active`` vertices (bool mask) whose star is worse than that of every
+        active neighbour (ties by index): no two of them share a face, so they can move
+        at once. Increasing indices."""
+        act = np.flatnonzero(active)
+        act = act[np.lexsort((act, self.qv[act]))]
+        return np.sort(act[independent_first(A, act)])
+
+    def update(self, X, face, moved):
+        """After the vertices ``moved`` moved: their faces and the stars around them."""
+        touched = np.unique(csr_rows(self.VF, moved)[0])
+        self.q[touched] = surface_side_quality(
+            X, self.Fo[touched], input_up(self.Fo[touched], face, self.input_normals)
+        )
+        around = np.unique(self.Fo[touched])
+        star, owner = csr_rows(self.VF, around)
+        self.qv[around] = np.minimum.reduceat(self.q[star], np.r_[0, np.cumsum(np.bincount(owner))[:-1]])
