@@ -9,11 +9,12 @@ from qcremesh.geometry.operators import signed_doublearea
 from qcremesh.geometry.quality import radius_ratio
 from qcremesh.mesh.subdivide import upsample
 from qcremesh.mesh.topology import adjacency_matrix, boundary_loop, vertex_face_incidence
-from qcremesh.remeshing.onsurface import closest_point_near
+from qcremesh.remeshing.onsurface import BoundaryCurve, closest_point_near
 from qcremesh.remeshing import relax
 from qcremesh.remeshing.regularize import GOOD_QUALITY, raise_regular_fraction
 from qcremesh.remeshing.relax import relax_on_surface
 from qcremesh.remeshing.snap import snap_to_far_points
+from qcremesh.remeshing.stars import boundary_deviation
 
 
 def plane(k):
@@ -221,25 +222,59 @@ def test_vertices_located_from_known_faces_land_where_the_search_puts_them():
 def test_regular_fraction_search_raises_the_share_of_good_faces_on_a_plane():
     """On a jittered mesh of a plane the search raises the number of faces with a radius
     ratio of at least 0.9 without lowering the smallest radius ratio or the mean; the
-    vertices stay on the plane (their own disk positions), the mesh an embedding, and the
-    vertices that may not move where they were."""
+    vertices stay on the plane (their own disk positions), the boundary ones on the input
+    boundary in their order, the mesh an embedding, and the vertices that may not move
+    where they were."""
     V, F, uv_in = flat_disk(0.04)
     X, Fo, uv = flat_disk(0.2)
-    inner = np.setdiff1d(np.arange(len(uv)), boundary_loop(Fo))
+    bnd = boundary_loop(Fo)
+    inner = np.setdiff1d(np.arange(len(uv)), bnd)
     uv = uv.copy()
     uv[inner] += np.random.default_rng(3).uniform(-0.03, 0.03, (len(inner), 2))
     face, bary, _ = locate_points(uv_in, F, uv)
     X = np.einsum("kc,kcd->kd", bary, V[F[face]])
+    curve = BoundaryCurve(uv_in, F, V, 0.2)
+    s = curve.arc_length(np.arctan2(uv[bnd, 1], uv[bnd, 0]))
+    s = s[0] + np.mod(s - s[0], curve.perimeter)
+    uv[bnd], X[bnd] = curve.at(s)
+    face[bnd] = -1
+    # every other boundary vertex jittered along the boundary
+    s[::2] += np.random.default_rng(4).uniform(-0.05, 0.05, len(s[::2]))
+    uv[bnd], X[bnd] = curve.at(s)
     q0 = radius_ratio(X, Fo)
-    movable = np.zeros(len(X), dtype=bool)
-    movable[inner] = True
+    movable = np.ones(len(X), dtype=bool)
     movable[inner[::5]] = False
-    before = X.copy()
+    movable[bnd[::7]] = False
+    before, s_before = X.copy(), s.copy()
     A, VF = adjacency_matrix(Fo, len(X)), vertex_face_incidence(Fo, len(X))
-    raise_regular_fraction(X, uv, face, Fo, A, VF, movable, V, F, uv_in, vertex_face_incidence(F, len(V)), 20)
+    raise_regular_fraction(
+        X, uv, face, s, Fo, A, VF, bnd, movable, V, F, uv_in, vertex_face_incidence(F, len(V)), curve, 20
+    )
     q = radius_ratio(X, Fo)
     assert (q >= GOOD_QUALITY).sum() > (q0 >= GOOD_QUALITY).sum() + 10
     assert q.min() >= min(q0.min(), GOOD_QUALITY) and q.sum() >= q0.sum()
     np.testing.assert_array_equal(X[~movable], before[~movable])
     np.testing.assert_allclose(X[inner, :2], uv[inner], atol=1e-12)
+    slid = s != s_before
+    assert slid.any() and (np.diff(s) > 0).all()
+    np.testing.assert_allclose(X[bnd], curve.at(s)[1], atol=1e-12)
     assert (X[:, 2] == 0).all() and (signed_doublearea(uv, Fo) > 0).all()
+
+
+def test_boundary_deviation_is_the_sagitta_of_the_output_chords():
+    """On the unit disk, a boundary vertex between neighbours at -a and a (angles on the
+    circle): at angle 0 the output boundary strays from the input one by the sagitta of
+    a chord over an arc a, 1 - cos(a / 2); slid next to a neighbour, by that of the chord
+    over 2 a (less the slide), 1 - cos(a) (to the input polygon's own deviation from the circle)."""
+    V, F, uv_in = flat_disk(0.01)
+    curve = BoundaryCurve(uv_in, F, V, 0.01)
+    a = 0.4
+    theta = np.array([-a, 0.0, a, 2.0, 4.0])
+    s = curve.arc_length(theta)
+    s = s[0] + np.mod(s - s[0], curve.perimeter)
+    _, X_loop = curve.at(s)
+    sc = np.array([[s[1], s[0] + 1e-3 * (s[1] - s[0])]])
+    Xc = curve.at(sc.ravel())[1].reshape(1, 2, 3)
+    far = boundary_deviation(s, np.array([1]), Xc, sc, X_loop, curve)
+    polygon = 1 - np.cos(np.pi / len(boundary_loop(F)))
+    np.testing.assert_allclose(far[0], [1 - np.cos(a / 2), 1 - np.cos(a * (1 - 5e-4))], atol=polygon)

@@ -12,7 +12,14 @@ from __future__ import annotations
 import numpy as np
 
 from .onsurface import csr_rows
-from .stars import StarQuality, input_face_normals, mean_edge_length, star_radius_ratios, tangent_candidates
+from .stars import (
+    StarQuality,
+    boundary_candidates,
+    input_face_normals,
+    mean_edge_length,
+    star_radius_ratios,
+    tangent_candidates,
+)
 
 __all__ = ["QUALITY_FLOOR", "raise_min_quality"]
 
@@ -125,21 +132,13 @@ def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_u
         if on_bnd.any():
             outer = sel[on_bnd]
             i = where_bnd[outer]
-            s_prev, s_next = s[i - 1] - (i == 0) * curve.perimeter, s[(i + 1) % len(bnd)]
-            s_next = s_next + (i == len(bnd) - 1) * curve.perimeter
-            shift = np.concatenate([_STEPS, -_STEPS])[None, :] * reach[outer][:, None]
-            lo, hi = 0.9 * s_prev + 0.1 * s_next, 0.1 * s_prev + 0.9 * s_next
-            sc = np.clip(s[i][:, None] + shift, lo[:, None], hi[:, None])
-            uvc, Xc = curve.at(sc.ravel())
-            c = sc.shape[1]
-            score = _star_scores(
-                X, uv, Fo, VF, outer, Xc.reshape(-1, c, 3), uvc.reshape(-1, c, 2), face, input_normals
-            )
+            Xc, uvc, sc = boundary_candidates(s, i, reach[outer], curve, _STEPS)
+            score = _star_scores(X, uv, Fo, VF, outer, Xc, uvc, face, input_normals)
             j = np.argmax(score, axis=1)
             rows = np.arange(len(outer))
             better = score[rows, j] > qv[outer] + 1e-9
-            best_X[on_bnd] = np.where(better[:, None], Xc.reshape(-1, c, 3)[rows, j], X[outer])
-            best_uv[on_bnd] = np.where(better[:, None], uvc.reshape(-1, c, 2)[rows, j], uv[outer])
+            best_X[on_bnd] = np.where(better[:, None], Xc[rows, j], X[outer])
+            best_uv[on_bnd] = np.where(better[:, None], uvc[rows, j], uv[outer])
             best_s[on_bnd] = np.where(better, sc[rows, j], s[i])
             gain[on_bnd] = better
         X[sel], uv[sel], face[sel] = best_X, best_uv, best_face

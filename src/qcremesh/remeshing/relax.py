@@ -313,6 +313,6 @@ def relax_on_surface(
         # followed, stay.
         held = snapped | ((A @ snapped) > 0)
         raise_regular_fraction(
-            X, uv, face, Fo, A, VF, free & ~held, V, F, disk_uv, vertex_faces, regular_rounds
+            X, uv, face, s, Fo, A, VF, bnd, ~pinned & ~held, V, F, disk_uv, vertex_faces, curve, regular_rounds
         )
     return (uv, X, face) if return_faces else (uv, X)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry.distance import point_segment_distance
 from ..geometry.locate import interpolate_barycentric
 from ..geometry.quality import radius_ratio
 from .onsurface import closest_point_near, csr_rows, independent_first
@@ -14,6 +15,8 @@ from .onsurface import closest_point_near, csr_rows, independent_first
 __all__ = [
     "DIRECTIONS",
     "StarQuality",
+    "boundary_candidates",
+    "boundary_deviation",
     "input_face_normals",
     "input_up",
     "mean_edge_length",
@@ -94,6 +97,80 @@ def tangent_candidates(X, Fo, VF, verts, reach, face, V, F, disk_uv, vertex_face
     )
     uvc = interpolate_barycentric(F, f, b, disk_uv).reshape(-1, c, 2)
     return cp.reshape(-1, c, 3), uvc, f.reshape(-1, c)
+
+
+def boundary_candidates(s, i, reach, curve, steps):
+    """Candidate positions of boundary vertices, slid along the input boundary by
+    ``steps`` times ``reach`` either way, each kept between its two boundary neighbours
+    (no closer than a tenth of the way to either).
+
+    Parameters
+    ----------
+    s : (b,) float
+        Arc length of the output boundary loop's vertices along ``curve``, increasing.
+    i : (p,) int
+        Positions in the loop of the vertices to move.
+    reach : (p,) float
+    curve : BoundaryCurve
+    steps : (t,) float
+
+    Returns
+    -------
+    Xc : (p, c, 3) float
+    uvc : (p, c, 2) float
+        Surface and disk positions, c = 2 t per vertex.
+    sc : (p, c) float
+        Their arc lengths.
+    """
+    s_prev, s_next = s[i - 1] - (i == 0) * curve.perimeter, s[(i + 1) % len(s)]
+    s_next = s_next + (i == len(s) - 1) * curve.perimeter
+    shift = np.concatenate([steps, -steps])[None, :] * reach[:, None]
+    lo, hi = 0.9 * s_prev + 0.1 * s_next, 0.1 * s_prev + 0.9 * s_next
+    sc = np.clip(s[i][:, None] + shift, lo[:, None], hi[:, None])
+    uvc, Xc = curve.at(sc.ravel())
+    c = sc.shape[1]
+    return Xc.reshape(-1, c, 3), uvc.reshape(-1, c, 2), sc
+
+
+def boundary_deviation(s, i, Xc, sc, X_loop, curve):
+    """How far the output boundary strays from the input boundary around boundary
+    vertices at candidate positions: the largest distance from the input boundary's
+    vertices between a vertex's two boundary neighbours to the output boundary path
+    through them and the candidate, (p, c) (0 where no input vertex lies between).
+
+    Parameters
+    ----------
+    s : (b,) float
+        Arc length of the output boundary loop's vertices along ``curve``, increasing.
+    i : (p,) int
+        Positions in the loop of the vertices.
+    Xc : (p, c, 3) float
+    sc : (p, c) float
+        Candidate surface positions and their arc lengths.
+    X_loop : (b, 3) float
+        Surface positions of the output boundary loop.
+    curve : BoundaryCurve
+    """
+    b, per = len(s), curve.perimeter
+    s_prev = s[i - 1] - (i == 0) * per
+    s_next = s[(i + 1) % b] + (i == b - 1) * per
+    # the input boundary's vertices over three turns, so every span is one run of them
+    knots = np.concatenate([curve.s[:-1] - per, curve.s[:-1], curve.s[:-1] + per])
+    points = np.tile(curve.points, (3, 1))
+    lo = np.searchsorted(knots, s_prev, side="right")
+    count = np.searchsorted(knots, s_next, side="left") - lo
+    owner = np.repeat(np.arange(len(i)), count)
+    at = np.repeat(lo, count) + np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+    P, arc = points[at], knots[at]
+    c = Xc.shape[1]
+    before = arc[:, None] < sc[owner]
+    ends = np.where(before[..., None], X_loop[(i - 1) % b][owner][:, None], X_loop[(i + 1) % b][owner][:, None])
+    dist = point_segment_distance(
+        np.repeat(P, c, axis=0), ends.reshape(-1, 3), Xc[owner].reshape(-1, 3)
+    )[0].reshape(-1, c)
+    out = np.zeros((len(i), c))
+    np.maximum.at(out, owner, dist)
+    return out
 
 
 def star_radius_ratios(X, uv, Fo, VF, verts, Xc, uvc, face, input_normals):
