@@ -9,6 +9,7 @@ from qcremesh.geometry.operators import signed_doublearea
 from qcremesh.geometry.quality import radius_ratio
 from qcremesh.mesh.subdivide import upsample
 from qcremesh.mesh.topology import adjacency_matrix, boundary_loop, vertex_face_incidence
+from qcremesh.remeshing.min_quality import raise_min_quality
 from qcremesh.remeshing.onsurface import BoundaryCurve, closest_point_near
 from qcremesh.remeshing import relax
 from qcremesh.remeshing.regularize import GOOD_QUALITY, raise_regular_fraction
@@ -278,3 +279,40 @@ def test_boundary_deviation_is_the_sagitta_of_the_output_chords():
     far = boundary_deviation(s, np.array([1]), Xc, sc, X_loop, curve)
     polygon = 1 - np.cos(np.pi / len(boundary_loop(F)))
     np.testing.assert_allclose(far[0], [1 - np.cos(a / 2), 1 - np.cos(a * (1 - 5e-4))], atol=polygon)
+
+
+def test_held_vertex_moves_only_below_its_floor():
+    """A held (snapped) vertex whose worst face is between 0.3 and 0.4 stays in the
+    minimum-quality search by default and moves, lifting its star above 0.4, when the
+    search lets held vertices mend faces below 0.4."""
+    V, F, uv_in = flat_disk(0.04)
+    _, Fo, uv0 = flat_disk(0.2)
+    bnd = boundary_loop(Fo)
+    curve = BoundaryCurve(uv_in, F, V, 0.2)
+    A, VF = adjacency_matrix(Fo, len(uv0)), vertex_face_incidence(Fo, len(uv0))
+    v = np.setdiff1d(np.arange(len(uv0)), bnd)[0]
+    w = A[v].indices[0]
+    uv0 = uv0.copy()
+    t = 0.0
+    while True:  # slide v towards a neighbour until its worst face is below 0.4
+        t += 0.01
+        uv = uv0.copy()
+        uv[v] += t * (uv0[w] - uv0[v])
+        X = np.column_stack([uv, np.zeros(len(uv))])
+        if radius_ratio(X, Fo[VF[v].indices]).min() < 0.4:
+            break
+    assert radius_ratio(X, Fo[VF[v].indices]).min() > 0.3
+    face, _, _ = locate_points(uv_in, F, uv)
+    s = curve.arc_length(np.arctan2(uv[bnd, 1], uv[bnd, 0]))
+    s = s[0] + np.mod(s - s[0], curve.perimeter)
+    pinned = np.ones(len(uv), dtype=bool)
+    pinned[v] = False
+    held = ~pinned
+    vf = vertex_face_incidence(F, len(V))
+    for floor, moves in ((0.3, False), (0.4, True)):
+        Xt, uvt, facet, st = X.copy(), uv.copy(), face.copy(), s.copy()
+        raise_min_quality(Xt, uvt, facet, st, Fo, A, VF, bnd, pinned, held, V, F, uv_in, vf, curve, 0.4, 5,
+                          held_floor=floor)
+        assert np.any(Xt[v] != X[v]) == moves
+        if moves:
+            assert radius_ratio(Xt, Fo[VF[v].indices]).min() >= 0.4

@@ -43,7 +43,7 @@ _STEPS = np.array([0.02, 0.06, 0.15, 0.3, 0.5])
 _PATIENCE = 30
 
 
-def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_uv, vertex_faces, curve, target, rounds):
+def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_uv, vertex_faces, curve, target, rounds, held_floor=QUALITY_FLOOR):
     """Pattern search that raises the smallest radius ratio of the faces around the
     vertices of the worst faces, in place.
 
@@ -80,8 +80,8 @@ def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_u
     pinned : (k,) bool
         Vertices that stay.
     held : (k,) bool
-        Vertices that move only when a face around them has a radius ratio below 0.3
-        (those snapped onto the input, which keep the output close to it).
+        Vertices that move only when a face around them has a radius ratio below
+        ``held_floor`` (those snapped onto the input, which keep the output close to it).
     V : (n, 3) float
     F : (m, 3) int
         The input surface.
@@ -95,6 +95,8 @@ def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_u
         Radius ratio below which a star is improved.
     rounds : int
         Maximum number of rounds.
+    held_floor : float
+        See ``held``.
     """
     k = len(X)
     where_bnd = np.full(k, -1)
@@ -108,7 +110,7 @@ def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_u
     stuck = np.zeros(k, dtype=bool)
     best, since = q.min(), 0
     for _ in range(rounds):
-        active = (qv < target) & ~pinned & ~stuck & ~(held & (qv >= QUALITY_FLOOR))
+        active = (qv < target) & ~pinned & ~stuck & ~(held & (qv >= held_floor))
         if not active.any() or since >= _PATIENCE:
             break
         sel = quality.worst_independent(A, active)
