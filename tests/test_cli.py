@@ -7,6 +7,7 @@ import pytest
 from conftest import DATA, grid_disk, shared, split_vertex, star_disk, strip_disk, tube_disk
 from qcremesh.cli.main import main
 from qcremesh.mesh.io import read_mesh, write_mesh
+from qcremesh.mesh.subdivide import upsample
 
 
 def test_param_writes_obj_with_disk_uv(tmp_path, capsys):
@@ -239,3 +240,21 @@ def test_quality_cli_json(capsys):
     assert q["faces"] == 4224 and q["hausdorff"] < 1e-12 and 0 < q["q_min"] < q["q_mean"] < 1
     assert main(["quality", str(DATA / "fran_cut.ply")]) == 0
     assert "radius ratio" in capsys.readouterr().out
+
+
+def test_remesh_cli_warns_of_a_corner_too_sharp_for_good_triangles(tmp_path, capsys):
+    """A flat triangle with an 8 degree corner: kept as a vertex, it bounds the radius
+    ratio of the triangles there (0.26 at best, one isosceles triangle), which the warning
+    says; the output is written."""
+    half = np.radians(4.0)
+    V = np.array([[0.0, 0.0, 0.0], [1.0, -np.tan(half), 0.0], [1.0, np.tan(half), 0.0]])
+    V, F = upsample(V, np.array([[0, 1, 2]]), 5)
+    path = tmp_path / "wedge.obj"
+    write_mesh(path, V, F)
+    assert main(["remesh", str(path), "-o", str(tmp_path / "w.ply"), "--faces", "500"]) == 0
+    err = capsys.readouterr().err
+    assert (
+        "qcremesh: warning: the input boundary has a corner of 8.0 degrees, kept as a vertex: the triangles there "
+        "are about as thin (a fan of triangles filling that angle has one with a radius ratio of at most 0.26)"
+    ) in err
+    assert (tmp_path / "w.ply").is_file()

@@ -5,6 +5,7 @@ import pytest
 
 from conftest import DATA
 from qcremesh.geometry.quality import (
+    corner_radius_ratio_bound,
     mesh_quality,
     min_angle,
     radius_ratio,
@@ -138,3 +139,25 @@ def test_mesh_quality_of_a_real_mesh():
     assert r["q_min"] <= r["q_p01"] <= r["q_mean"] <= 1
     assert 0 < r["min_angle_deg"] <= r["mean_min_angle_deg"] <= 60
     assert (r["boundary_loops"], r["euler_characteristic"], r["manifold"]) == (1, 1, True)
+
+
+def test_corner_radius_ratio_bound():
+    """One triangle at a sharp corner: the isosceles one with that apex angle, measured
+    by radius_ratio; 60 degrees: 1; 90 degrees: two isosceles triangles of 45 degrees.
+    No triangle with a given angle does better."""
+    a = np.radians([6.57, 20.0, 45.0])
+    apex = np.array([0.0, 0.0, 0.0])
+    V = np.concatenate([[apex], np.column_stack([np.cos(a / 2), np.sin(a / 2), 0 * a]),
+                        np.column_stack([np.cos(a / 2), -np.sin(a / 2), 0 * a])])
+    F = np.column_stack([np.zeros(3, int), [1, 2, 3], [4, 5, 6]])
+    np.testing.assert_allclose(corner_radius_ratio_bound(a), radius_ratio(V, F), rtol=1e-12)
+    np.testing.assert_allclose(corner_radius_ratio_bound(np.radians([60.0, 90.0])), [1.0, radius_ratio(
+        np.array([[0, 0, 0], [1, 0, 0], [np.cos(np.pi / 4), np.sin(np.pi / 4), 0]]), np.array([[0, 1, 2]]))[0]])
+    rng = np.random.default_rng(0)
+    for angle in np.radians([5.0, 15.0, 40.0]):  # other triangles with that angle
+        r = rng.uniform(0.05, 20.0, (200, 2))
+        P = np.zeros((200, 3, 3))
+        P[:, 1, 0] = r[:, 0]
+        P[:, 2, :2] = r[:, 1:2] * [np.cos(angle), np.sin(angle)]
+        q = radius_ratio(P.reshape(-1, 3), np.arange(600).reshape(-1, 3))
+        assert q.max() <= corner_radius_ratio_bound(angle)[0] + 1e-12

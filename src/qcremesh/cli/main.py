@@ -29,6 +29,7 @@ from ..mesh.io import MeshReadError, check_writable, read_mesh, write_mesh
 from ..mesh.topology import boundary_edges, edges, orient_faces
 from ..mesh.validate import MeshError, foldover_edges
 from ..param.disk import disk_conformal_map
+from ..remeshing.min_quality import QUALITY_FLOOR
 from ..remeshing.pipeline import METHODS
 
 __all__ = ["main"]
@@ -216,6 +217,13 @@ def _remesh(args, out):
             f"qcremesh: warning: the disk map crowds {100 * st['param_narrowest_share']:.0f} % of the boundary "
             "vertices to its narrowest arc (the surface is long and thin, or cut along slits): it is not "
             "conformal there, and the mesh is less regular there",
+            file=sys.stderr,
+        )
+    if st.get("corner_quality_bound", 1.0) < QUALITY_FLOOR:
+        print(
+            f"qcremesh: warning: the input boundary has a corner of {st['sharpest_corner_degrees']:.1f} degrees, "
+            f"kept as a vertex: the triangles there are about as thin (a fan of triangles filling that angle "
+            f"has one with a radius ratio of at most {st['corner_quality_bound']:.2f})",
             file=sys.stderr,
         )
     if "teichmuller_k" in st:

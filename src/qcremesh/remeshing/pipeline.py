@@ -51,7 +51,7 @@ from ..beltrami.coefficient import coherent_mu
 from ..beltrami.teichmuller import teichmuller_map
 from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import doublearea
-from ..geometry.quality import radius_ratio
+from ..geometry.quality import corner_radius_ratio_bound, radius_ratio, triangle_angles
 from ..geometry.repair import repair_degenerate_faces
 from ..mesh.subdivide import upsample
 from ..mesh.topology import (
@@ -129,7 +129,13 @@ class RemeshResult:
     mu : (m,) complex or None
         Beltrami coefficient of the Teichmueller map, per output face.
     stats : dict
-        Numbers of the run: landmarks, CVT uniformity, Teichmueller k and iterations, ...
+        Numbers of the run: landmarks, CVT uniformity, Teichmueller k and iterations, ...;
+        with boundary corners, ``sharpest_corner_degrees`` (the input's angle at the
+        sharpest one) and ``corner_quality_bound``, the best smallest radius ratio of a
+        fan of triangles filling that angle
+        (:func:`~qcremesh.geometry.quality.corner_radius_ratio_bound`), which the output
+        follows up to its boundary edges being chords of the input boundary (a ragged
+        border cut by a plane through a decimated head: 6.6 degrees, 0.22; min q 0.235).
     times : dict of str to float
         Wall time of each stage, in seconds.
     """
@@ -383,6 +389,14 @@ def remesh(
         else:
             theta, corner = boundary_landmarks(V, dm.uv, bnd, nb, corner_angle)
             stats["boundary_corners"] = int(corner.sum())
+            if corner.any():
+                # The sharpest corner kept bounds the smallest radius ratio of any mesh
+                # that keeps it (a ragged scan border can have teeth of a few degrees).
+                gap = np.abs(np.angle(np.exp(1j * (theta[corner][:, None] - boundary_angles(dm.uv, bnd)[None]))))
+                at = bnd[np.argmin(gap, axis=1)]
+                angle = np.bincount(F.ravel(), triangle_angles(V, F).ravel(), len(V))[at]
+                stats["sharpest_corner_degrees"] = float(np.degrees(angle.min()))
+                stats["corner_quality_bound"] = float(corner_radius_ratio_bound(angle).min())
             samples_uv, samples_V, samples_F = dm.uv, V, F
             while len(samples_uv) < CVT_SAMPLES_PER_LANDMARK * (ni + nb):
                 samples_V, _ = upsample(samples_V, samples_F, 1)
