@@ -173,7 +173,7 @@ def relax_on_surface(
     human_brain 0.52 / 0.70 -> 0.46 / 0.60 % at its face count / half of it, hand.ply at
     half 0.33 -> 0.30 %; on the 7 disk meshes at both counts, 25 rounds there give the
     min q, mean q to 1e-4 and Hausdorff distance of 50; 10 rounds nearly so, hand.ply at
-    half count 0.361 against 0.362). Last, where faces stay below 0.3, the rings around
+    half count 0.361 against 0.362). Then, where faces stay below 0.3, the rings around
     them are smoothed together and the search gets ``rounds // 12`` rounds more; where
     faces stay below 0.4, ``rounds // 12`` rounds more in which the snapped vertices may
     move to mend them. Last, ``regular_rounds`` rounds of
@@ -221,7 +221,7 @@ def relax_on_surface(
     regular_rounds : int
         Maximum number of rounds of the search that raises the share of faces with a
         radius ratio of at least 0.9 (:mod:`qcremesh.remeshing.regularize`), last, with
-        the snapped vertices staying; 0 skips it.
+        the snapped vertices and their neighbours staying; 0 skips it.
     faces : (k,) int, optional
         Input face under each vertex where known, -1 elsewhere (the faces returned for
         the level this one subdivides, say): such a vertex, and a neighbour of it, are
