@@ -390,8 +390,9 @@ def remesh(
             theta, corner = boundary_landmarks(V, dm.uv, bnd, nb, corner_angle)
             stats["boundary_corners"] = int(corner.sum())
             if corner.any():
-                # The sharpest corner kept bounds the smallest radius ratio of any mesh
-                # that keeps it (a ragged scan border can have teeth of a few degrees).
+                # The sharpest corner kept bounds the smallest radius ratio of the output,
+                # up to its boundary edges being chords (a ragged border can have teeth of
+                # a few degrees).
                 gap = np.abs(np.angle(np.exp(1j * (theta[corner][:, None] - boundary_angles(dm.uv, bnd)[None]))))
                 at = bnd[np.argmin(gap, axis=1)]
                 angle = np.bincount(F.ravel(), triangle_angles(V, F).ravel(), len(V))[at]
