@@ -7,6 +7,7 @@ from qcremesh.geometry.operators import (
     face_gradients,
     signed_doublearea,
     uniform_laplacian,
+    vertex_areas,
 )
 from qcremesh.mesh.io import read_mesh
 from qcremesh.mesh.topology import boundary_loop
@@ -55,3 +56,16 @@ def test_uniform_laplacian():
     L = uniform_laplacian(F).toarray()
     np.testing.assert_array_equal(np.diag(L), [-2, -3, -3, -2])
     assert L[0, 1] == 1 and L[0, 3] == 0
+
+
+def test_vertex_areas_are_a_third_of_the_faces_around():
+    """On a grid of the unit square every vertex gets a third of the area of the faces
+    around it, and the areas sum to the square's."""
+    uv, F = grid_disk(5)
+    area = vertex_areas(uv, F)
+    assert area.shape == (len(uv),)
+    np.testing.assert_allclose(area.sum(), doublearea(uv, F).sum() / 2)
+    for v in range(len(uv)):
+        around = (F == v).any(axis=1)
+        np.testing.assert_allclose(area[v], doublearea(uv, F[around]).sum() / 6)
+    assert len(vertex_areas(uv, F, len(uv) + 2)) == len(uv) + 2

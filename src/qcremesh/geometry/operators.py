@@ -8,7 +8,7 @@ import scipy.sparse as sp
 
 from ..mesh.topology import adjacency_matrix
 
-__all__ = ["doublearea", "signed_doublearea", "face_gradients", "cotmatrix", "uniform_laplacian"]
+__all__ = ["doublearea", "signed_doublearea", "vertex_areas", "face_gradients", "cotmatrix", "uniform_laplacian"]
 
 
 def doublearea(V, F):
@@ -34,6 +34,14 @@ def signed_doublearea(uv, F):
     a = uv[F[:, 1]] - uv[F[:, 0]]
     b = uv[F[:, 2]] - uv[F[:, 0]]
     return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+
+
+def vertex_areas(V, F, n=None):
+    """Barycentric area of every vertex: a third of the area of each face around it (the
+    diagonal of the barycentric mass matrix), (n,); they sum to the surface's area.
+    """
+    n = len(V) if n is None else n
+    return np.bincount(np.asarray(F).ravel(), weights=np.repeat(doublearea(V, F) / 6, 3), minlength=n)
 
 
 def face_gradients(uv, F):

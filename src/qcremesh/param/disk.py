@@ -72,7 +72,7 @@ from ..beltrami.coefficient import beltrami_coefficient, metric_beltrami_coeffic
 from ..beltrami.solver import generalized_laplacian
 from ..geometry.intrinsic import intrinsic_cotmatrix, intrinsic_delaunay
 from ..geometry.linsolve import complement, dirichlet_solve, spd_solver
-from ..geometry.operators import doublearea, signed_doublearea
+from ..geometry.operators import signed_doublearea, vertex_areas
 from ..mesh.topology import adjacency_matrix, boundary_loop, edges
 from ..mesh.validate import check_disk
 from .tutte import tutte_embedding
@@ -257,7 +257,7 @@ def _map_on(V, F, bnd, T, lengths, times):
 
     interior = complement(bnd, n)
     solve_interior = solver.refactorize(-L[interior][:, interior])
-    area = np.bincount(F.ravel(), weights=np.repeat(doublearea(V, F) / 6, 3), minlength=n)
+    area = vertex_areas(V, F, n)
     torsion = np.zeros(n)
     torsion[interior] = solve_interior(area[interior])
     center = _plateau_centre(V, F, torsion)

@@ -50,7 +50,7 @@ from ..adaptive.landmarks import (
 from ..beltrami.coefficient import coherent_mu
 from ..beltrami.teichmuller import teichmuller_map
 from ..geometry.locate import interpolate_barycentric, locate_points
-from ..geometry.operators import doublearea
+from ..geometry.operators import doublearea, vertex_areas
 from ..geometry.quality import corner_radius_ratio_bound, radius_ratio, triangle_angles
 from ..geometry.repair import repair_degenerate_faces
 from ..mesh.subdivide import upsample
@@ -402,9 +402,7 @@ def remesh(
             while len(samples_uv) < CVT_SAMPLES_PER_LANDMARK * (ni + nb):
                 samples_V, _ = upsample(samples_V, samples_F, 1)
                 samples_uv, samples_F = upsample(samples_uv, samples_F, 1)
-            surface_area = np.bincount(
-                samples_F.ravel(), weights=np.repeat(doublearea(samples_V, samples_F) / 6, 3), minlength=len(samples_uv)
-            )
+            surface_area = vertex_areas(samples_V, samples_F, len(samples_uv))
             circle = np.column_stack([np.cos(theta), np.sin(theta)])
             circle_V = interpolate_on_boundary(boundary_angles(dm.uv, bnd), V[bnd], theta)
         done("landmarks")
