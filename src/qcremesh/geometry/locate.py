@@ -56,7 +56,7 @@ def locate_points(uv, F, P, rtol=1e-12):
     F = np.asarray(F)
     P = np.asarray(P, dtype=np.float64).reshape(-1, 2)
     dist, face, _ = point_mesh_distance(P, uv, F)
-    corners = uv[F[face]]
+    corners = np.take(uv, np.take(F, face, axis=0), axis=0)
     _, _, bary = point_triangle_distance(P, corners[:, 0], corners[:, 1], corners[:, 2])
     longest = np.linalg.norm(np.roll(corners, -1, axis=1) - corners, axis=2).max(1)
     return face, bary, dist <= rtol * longest
@@ -81,6 +81,8 @@ def interpolate_barycentric(F, face, bary, values):
     """
     values = np.asarray(values)
     bary = np.asarray(bary)
-    corners = values[np.asarray(F)[np.asarray(face)]]  # (k, 3) or (k, 3, d)
+    corners = np.take(values, np.take(np.asarray(F), np.asarray(face), axis=0), axis=0)  # (k, 3) or (k, 3, d)
     weights = bary.reshape(bary.shape + (1,) * (values.ndim - 1))
-    return (weights * corners).sum(1)
+    # the sum over the corners written out: the same additions in the same order as
+    # (weights * corners).sum(1), in half the time
+    return weights[:, 0] * corners[:, 0] + weights[:, 1] * corners[:, 1] + weights[:, 2] * corners[:, 2]

@@ -7,6 +7,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..mesh.topology import adjacency_matrix
+from .vectors import cross
 
 __all__ = ["doublearea", "signed_doublearea", "vertex_areas", "face_gradients", "cotmatrix", "uniform_laplacian"]
 
@@ -18,11 +19,11 @@ def doublearea(V, F):
     """
     V = np.asarray(V, dtype=np.float64)
     F = np.asarray(F)
-    a = V[F[:, 1]] - V[F[:, 0]]
-    b = V[F[:, 2]] - V[F[:, 0]]
+    a = np.take(V, F[:, 1], axis=0) - np.take(V, F[:, 0], axis=0)
+    b = np.take(V, F[:, 2], axis=0) - np.take(V, F[:, 0], axis=0)
     if V.shape[1] == 2:
         return np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
-    return np.linalg.norm(np.cross(a, b), axis=1)
+    return np.linalg.norm(cross(a, b), axis=1)
 
 
 def signed_doublearea(uv, F):
@@ -31,8 +32,8 @@ def signed_doublearea(uv, F):
     """
     uv = np.asarray(uv, dtype=np.float64)
     F = np.asarray(F)
-    a = uv[F[:, 1]] - uv[F[:, 0]]
-    b = uv[F[:, 2]] - uv[F[:, 0]]
+    a = np.take(uv, F[:, 1], axis=0) - np.take(uv, F[:, 0], axis=0)
+    b = np.take(uv, F[:, 2], axis=0) - np.take(uv, F[:, 0], axis=0)
     return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
 
 

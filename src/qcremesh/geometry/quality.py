@@ -18,6 +18,7 @@ from ..mesh.topology import (
     nonmanifold_vertices,
 )
 from .distance import hausdorff_distance, polyline_hausdorff_distance
+from .vectors import cross as cross_product
 
 __all__ = [
     "radius_ratio",
@@ -38,13 +39,13 @@ def _corners(V, F):
     (indices mod 3); the edge opposite corner k is w - u.
     """
     V = np.asarray(V, dtype=np.float64)
-    P = V[np.asarray(F)]
+    P = np.take(V, np.asarray(F), axis=0)
     u = np.roll(P, -1, axis=1) - P
     w = np.roll(P, -2, axis=1) - P
     if V.shape[1] == 2:
         cross = np.abs(u[..., 0] * w[..., 1] - u[..., 1] * w[..., 0])
     else:
-        cross = np.linalg.norm(np.cross(u, w), axis=-1)
+        cross = np.linalg.norm(cross_product(u, w), axis=-1)
     dot = (u * w).sum(-1)
     opposite = np.linalg.norm(w - u, axis=-1)
     return cross, dot, opposite
@@ -75,9 +76,18 @@ def radius_ratio(V, F):
     >>> radius_ratio(V, [[0, 1, 2], [0, 4, 3]]).round(12).tolist()
     [1.0, 0.8]
     """
-    cross, _, opposite = _corners(V, F)
-    k = np.argmax(opposite, axis=1)[:, None]
-    dbl = np.take_along_axis(cross, k, axis=1)[:, 0]
+    V = np.asarray(V, dtype=np.float64)
+    P = np.take(V, np.asarray(F), axis=0)
+    u = np.roll(P, -1, axis=1) - P
+    w = np.roll(P, -2, axis=1) - P
+    opposite = np.linalg.norm(w - u, axis=-1)
+    # the two edges at the corner opposite the longest edge
+    k = np.argmax(opposite, axis=1)[:, None, None]
+    a, b = np.take_along_axis(u, k, axis=1)[:, 0], np.take_along_axis(w, k, axis=1)[:, 0]
+    if V.shape[1] == 2:
+        dbl = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+    else:
+        dbl = np.linalg.norm(cross_product(a, b), axis=1)
     den = opposite.sum(1) * opposite.prod(1)
     return np.divide(4 * dbl**2, den, out=np.zeros(len(den)), where=den > 0)
 

@@ -34,6 +34,7 @@ from ..adaptive.landmarks import interpolate_on_boundary
 from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
+from ..geometry.vectors import cross
 from ..mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
 from .min_quality import QUALITY_FLOOR, raise_min_quality
 from .onsurface import BoundaryCurve, closest_point_near, csr_rows
@@ -66,7 +67,8 @@ WALK_ROUNDS = 64
 def _vertex_normals(X, Fo, VF):
     """Unit area-weighted vertex normals, (k, 3); ``VF`` is the (k, l) vertex-face
     incidence of ``Fo``."""
-    out = VF @ np.cross(X[Fo[:, 1]] - X[Fo[:, 0]], X[Fo[:, 2]] - X[Fo[:, 0]])
+    P0, P1, P2 = (np.take(X, Fo[:, c], axis=0) for c in range(3))
+    out = VF @ cross(P1 - P0, P2 - P0)
     return out / np.maximum(np.linalg.norm(out, axis=1, keepdims=True), 1e-300)
 
 
@@ -79,7 +81,7 @@ def _smooth(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, st
     normal = _vertex_normals(X, Fo, VF)[verts]
     d = (ring @ X) / deg[:, None] - X[verts]
     d -= (d * normal).sum(1, keepdims=True) * normal
-    length = np.linalg.norm(X[E[:, 0]] - X[E[:, 1]], axis=1)
+    length = np.linalg.norm(np.take(X, E[:, 0], axis=0) - np.take(X, E[:, 1], axis=0), axis=1)
     reach = (np.bincount(E[:, 0], length, k) + np.bincount(E[:, 1], length, k))[verts] / deg
     d *= step
     d *= np.minimum(1.0, 0.25 * reach / np.maximum(np.linalg.norm(d, axis=1), 1e-300))[:, None]

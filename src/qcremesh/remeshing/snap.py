@@ -48,7 +48,7 @@ def _distance_to_output(P, X, Fo, VF):
     well-shaped mesh; an upper bound otherwise), and that face; (p,), (p,)."""
     nearest = cKDTree(X).query(P)[1]
     star, owner = csr_rows(VF, nearest)
-    T = X[Fo[star]]
+    T = np.take(X, np.take(Fo, star, axis=0), axis=0)
     d = point_triangle_distance(P[owner], T[:, 0], T[:, 1], T[:, 2])[0]
     first = nearest_per_owner(d, owner)
     return d[first], star[first]

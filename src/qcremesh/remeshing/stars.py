@@ -10,6 +10,7 @@ import numpy as np
 from ..geometry.distance import point_segment_distance
 from ..geometry.locate import interpolate_barycentric
 from ..geometry.quality import radius_ratio
+from ..geometry.vectors import cross
 from .onsurface import closest_point_near, csr_rows, independent_first
 
 __all__ = [
@@ -31,7 +32,7 @@ DIRECTIONS = 8
 
 def input_face_normals(V, F):
     """Unit normals of the input faces, (m, 3)."""
-    normals = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    normals = cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
     return normals / np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-300)
 
 
@@ -39,8 +40,8 @@ def surface_side_quality(X, T, up):
     """Radius ratio of faces ``T`` of a mesh on a surface, negated where the face is
     turned over: its normal makes more than 90 degrees with ``up``, the normal of the
     input surface under it. (f,) for T (f, 3), up (f, 3)."""
-    P = X[T]
-    normal = np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
+    P = np.take(X, T, axis=0)
+    normal = cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
     return np.where((normal * up).sum(1) >= 0, 1.0, -1.0) * radius_ratio(X, T)
 
 
@@ -80,14 +81,14 @@ def tangent_candidates(X, Fo, VF, verts, reach, face, V, F, disk_uv, vertex_face
     """
     angles = 2 * np.pi * np.arange(DIRECTIONS) / DIRECTIONS
     star, owner = csr_rows(VF, verts)
-    T = X[Fo[star]]
+    T = np.take(X, np.take(Fo, star, axis=0), axis=0)
     normal = np.stack(
-        [np.bincount(owner, c, len(verts)) for c in np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]).T], axis=1
+        [np.bincount(owner, c, len(verts)) for c in cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]).T], axis=1
     )
     normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
-    t1 = np.cross(normal, np.eye(3)[np.argmin(np.abs(normal), axis=1)])
+    t1 = cross(normal, np.eye(3)[np.argmin(np.abs(normal), axis=1)])
     t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
-    t2 = np.cross(normal, t1)
+    t2 = cross(normal, t1)
     offsets = (np.cos(angles)[:, None, None] * t1 + np.sin(angles)[:, None, None] * t2)[:, None]
     offsets = offsets * (steps[None, :, None, None] * reach[:, None])
     offsets = offsets.reshape(-1, len(verts), 3).transpose(1, 0, 2)  # (p, c, 3)
@@ -211,7 +212,7 @@ def star_radius_ratios(X, uv, Fo, VF, verts, Xc, uvc, face, input_normals):
     star, owner = csr_rows(VF, verts)
     T = Fo[star]
     corner = np.argmax(T == verts[owner][:, None], axis=1)
-    P, U = X[T], uv[T]
+    P, U = np.take(X, T, axis=0), np.take(uv, T, axis=0)
     surface_up = input_up(T, face, input_normals)
     c = Xc.shape[1]
     P = np.repeat(P[:, None], c, axis=1)
@@ -221,7 +222,7 @@ def star_radius_ratios(X, uv, Fo, VF, verts, Xc, uvc, face, input_normals):
     U[rows, cols, corner[:, None]] = uvc[owner]
     e = np.roll(P, -1, axis=2) - P
     length = np.linalg.norm(e, axis=3)
-    normal = np.cross(P[:, :, 1] - P[:, :, 0], P[:, :, 2] - P[:, :, 0])
+    normal = cross(P[:, :, 1] - P[:, :, 0], P[:, :, 2] - P[:, :, 0])
     dbl = np.linalg.norm(normal, axis=2)
     den = length.sum(2) * length.prod(2)
     q = np.divide(4 * dbl**2, den, out=np.zeros_like(den), where=den > 0)

