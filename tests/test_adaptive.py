@@ -130,6 +130,26 @@ def test_voronoi_owner_on_a_folded_strip():
     np.testing.assert_array_equal(voronoi_owner(samples, generators, fold(x), fold(g), candidates=3), [2, 2])
 
 
+def test_voronoi_owner_guess_changes_nothing():
+    """Owners guessed from generators that have since moved (as in Lloyd's iteration), or
+    guessed at random, give the owners found without a guess, in the disk and on a
+    surface (a paraboloid over the disk)."""
+    rng = np.random.default_rng(3)
+    samples = rng.uniform(-1, 1, (20000, 2))
+    before = rng.uniform(-1, 1, (300, 2))
+    after = before + rng.normal(scale=0.02, size=before.shape)
+
+    def lift(p):
+        return np.column_stack([p, (p**2).sum(1)])
+
+    for guess in (voronoi_owner(samples, before), rng.integers(0, 300, len(samples))):
+        np.testing.assert_array_equal(voronoi_owner(samples, after, guess=guess), voronoi_owner(samples, after))
+        np.testing.assert_array_equal(
+            voronoi_owner(samples, after, lift(samples), lift(after), guess=guess),
+            voronoi_owner(samples, after, lift(samples), lift(after)),
+        )
+
+
 def test_cvt_surface_cells_fill_the_nostrils(face):
     """The disk map compresses the nostrils of human_face (0.47 % of its area) by orders of
     magnitude within one CVT cell: with disk cells and weight rho^2 they keep less than

@@ -236,8 +236,30 @@ def _nearest_in_space(positions, candidates, generator_positions):
     return (candidates[np.arange(len(candidates)), d.argmin(1)],)
 
 
+def _nearest(tree, queries, guess=None):
+    """Index of the point of ``tree`` nearest to each query point, (q,).
+
+    Where a ``guess`` (q,) is given, the search is skipped for the queries closer to
+    their guessed point than half the distance from it to the nearest other point of the
+    tree: no other point can be as close (the triangle inequality), so the guess is the
+    nearest, and the answer is that of the search. Lloyd's iteration moves the
+    generators little, so the owners of the previous iteration spare most searches.
+    """
+    if guess is None or len(tree.data) < 2:
+        return tree.query(queries, workers=-1)[1]
+    data = tree.data
+    spacing = tree.query(data, k=2)[0][:, 1]
+    near = np.take(data, guess, axis=0)
+    d = np.sqrt(((queries - near) ** 2).sum(1))
+    out = np.array(guess, dtype=np.int64)
+    # (a margin under one half against the rounding of the two distances)
+    rest = np.flatnonzero(~(d < 0.499 * spacing[guess]))
+    out[rest] = tree.query(queries[rest], workers=-1)[1]
+    return out
+
+
 def voronoi_owner(
-    samples, generators, positions=None, generator_positions=None, candidates=SURFACE_CELL_CANDIDATES
+    samples, generators, positions=None, generator_positions=None, candidates=SURFACE_CELL_CANDIDATES, guess=None
 ):
     """Cell of every sample: the index of its generator in a Voronoi diagram of the disk
     or, given positions on the surface, of the surface.
@@ -260,19 +282,23 @@ def voronoi_owner(
         The generators' points on the surface (with ``positions``).
     candidates : int
         Generators nearest in the disk among which the nearest in space is taken.
+    guess : (s,) int, optional
+        Likely owners (those of the previous Lloyd iteration): where a sample is well
+        inside the cell of its guess, its nearest generators are not searched. The
+        result is the same.
 
     Returns
     -------
     (s,) int64
     """
     tree = cKDTree(generators)
-    nearest_in_disk = tree.query(samples, workers=-1)[1]
+    nearest_in_disk = _nearest(tree, samples, guess)
     k = min(candidates, len(generators))
     if positions is None or k == 1:
         return nearest_in_disk
     positions = np.asarray(positions, dtype=np.float64)
     generator_positions = np.asarray(generator_positions, dtype=np.float64)
-    owner = cKDTree(generator_positions).query(positions, workers=-1)[1]
+    owner = _nearest(cKDTree(generator_positions), positions, nearest_in_disk)
     # Where the nearest in space is the nearest in the disk, it is among the candidates;
     # elsewhere (near the cells' borders, a few samples) the candidates are searched.
     differ = np.flatnonzero(owner != nearest_in_disk)
@@ -386,10 +412,19 @@ def cvt_landmarks(
     points = samples[pick] + jitter * rng.standard_normal((count, 2))
     nfix = len(fixed)
     spacing = np.sqrt(np.pi / max(count + nfix, 1))
+    # The owners of the last call, the guess of the next while the generators stay the
+    # same ones (see voronoi_owner).
+    last = {}
+
+    def guess(points):
+        return last["owner"] if last.get("count") == len(points) else None
+
     if positions is None:
 
         def owners(points):
-            return voronoi_owner(samples, np.concatenate([fixed, points]))
+            owner = voronoi_owner(samples, np.concatenate([fixed, points]), guess=guess(points))
+            last.update(owner=owner, count=len(points))
+            return owner
 
     else:
         positions = np.asarray(positions, dtype=np.float64)
@@ -402,9 +437,12 @@ def cvt_landmarks(
 
         def owners(points):
             at = positions_in_input_order[sample_tree.query(points)[1]] if len(points) else positions[:0]
-            return voronoi_owner(
-                samples, np.concatenate([fixed, points]), positions, np.concatenate([fixed_positions, at])
+            owner = voronoi_owner(
+                samples, np.concatenate([fixed, points]), positions, np.concatenate([fixed_positions, at]),
+                guess=guess(points),
             )
+            last.update(owner=owner, count=len(points))
+            return owner
 
     done = 0
     for done in range(1, iterations + 1):
