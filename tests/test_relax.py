@@ -8,7 +8,7 @@ from qcremesh.geometry.locate import locate_points
 from qcremesh.geometry.operators import signed_doublearea
 from qcremesh.geometry.quality import radius_ratio
 from qcremesh.mesh.subdivide import upsample
-from qcremesh.mesh.topology import adjacency_matrix, boundary_loop, vertex_face_incidence
+from qcremesh.mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
 from qcremesh.remeshing.min_quality import raise_min_quality
 from qcremesh.remeshing.onsurface import BoundaryCurve, closest_point_near
 from qcremesh.remeshing import relax
@@ -62,8 +62,11 @@ def _snap(V, F, uv_in, X, Fo, uv, face, snapped=None, partial=None, passes=4):
     partial = np.zeros(len(X), dtype=bool) if partial is None else partial
     A, VF = adjacency_matrix(Fo, len(X)), vertex_face_incidence(Fo, len(X))
     vertex_faces = vertex_face_incidence(F, len(V))
+    E = edges(Fo)
+    mean_edge = np.linalg.norm(X[E[:, 0]] - X[E[:, 1]], axis=1).mean()
     snap_to_far_points(
-        X, uv, face, Fo, A, VF, boundary_loop(Fo), pinned, snapped, partial, V, F, uv_in, vertex_faces, 1.0, passes
+        X, uv, face, Fo, A, VF, boundary_loop(Fo), pinned, snapped, partial, V, F, adjacency_matrix(F, len(V)), uv_in,
+        vertex_faces, mean_edge, passes,
     )
     assert not pinned.any() and not np.any(partial & ~snapped)
     return snapped

@@ -72,6 +72,11 @@ def _vertex_normals(X, Fo, VF):
     return out / np.maximum(np.linalg.norm(out, axis=1, keepdims=True), 1e-300)
 
 
+def _mean_length(X, E):
+    """Mean length of the edges ``E`` (e, 2)."""
+    return np.linalg.norm(np.take(X, E[:, 0], axis=0) - np.take(X, E[:, 1], axis=0), axis=1).mean()
+
+
 def _smooth(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, step):
     """One sweep of tangential smoothing of the vertices ``verts`` (``ring``: their rows of
     the adjacency matrix): new surface positions, disk positions and input faces of all
@@ -283,8 +288,12 @@ def relax_on_surface(
         s_new[revert[bnd]] = s[revert[bnd]]
         uv, X, face, s = new_uv, new_X, new_face, s_new
     snapped, partial = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
+    A_in = adjacency_matrix(F, len(V)) if snap > 0 else None
     if snap > 0:
-        snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, disk_uv, vertex_faces, snap)
+        snap_to_far_points(
+            X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, A_in, disk_uv, vertex_faces,
+            snap * _mean_length(X, E),
+        )
     if min_quality > 0 and rounds > 0:
         raise_min_quality(
             X, uv, face, s, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, curve, min_quality, rounds
@@ -293,7 +302,10 @@ def relax_on_surface(
             # The search has mended the faces that blocked some moves of the snapping
             # (a move must leave every face around the vertex above 0.3): snap again, and
             # polish around, the snapped vertices staying.
-            snap_to_far_points(X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, disk_uv, vertex_faces, snap)
+            snap_to_far_points(
+                X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, A_in, disk_uv, vertex_faces,
+                snap * _mean_length(X, E),
+            )
             raise_min_quality(
                 X, uv, face, s, Fo, A, VF, bnd, pinned | snapped, snapped, V, F, disk_uv, vertex_faces, curve,
                 min_quality, max(rounds // 12, 1),

@@ -32,7 +32,6 @@ from ..geometry.distance import point_triangle_distance
 from ..geometry.locate import interpolate_barycentric
 from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
-from ..mesh.topology import adjacency_matrix, edges
 from .min_quality import QUALITY_FLOOR
 from .onsurface import closest_point_near, csr_rows, independent_first, nearest_per_owner
 
@@ -55,13 +54,12 @@ def _distance_to_output(P, X, Fo, VF):
 
 
 def snap_to_far_points(
-    X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, disk_uv, vertex_faces, reach, passes=4
+    X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, A_in, disk_uv, vertex_faces, reach, passes=4
 ):
     """Move output vertices onto (or towards) the input vertices farthest from the
     output surface: the bottoms of pockets and the tips the output cuts across.
 
-    In each pass, the input vertices farther than ``reach`` times the mean output edge
-    length from the output, and at least as far as their input neighbours, each pull the
+    In each pass, the input vertices farther than ``reach`` from the output, and at least as far as their input neighbours, each pull the
     nearest interior vertex of their closest output face that has not moved all the way
     yet (the farthest first, no two neighbours at once), but for the vertices that could
     not move towards them at all in an earlier pass. The vertex goes the largest of
@@ -96,29 +94,29 @@ def snap_to_far_points(
     V : (n, 3) float
     F : (m, 3) int
         The input surface.
+    A_in : (n, n) CSR
+        Vertex adjacency of ``F``.
     disk_uv : (n, 2) float
         Its disk parameterization.
     vertex_faces : (n, m) CSR
         Vertex-face incidence of ``F``.
     reach : float
-        In mean output edge lengths.
+        Distance from the output beyond which an input vertex pulls (the relaxation
+        takes half the mean output edge length).
     passes : int
         Maximum number of passes.
     """
-    E = edges(Fo)
-    h = reach * np.linalg.norm(X[E[:, 0]] - X[E[:, 1]], axis=1).mean()
-    A_in = adjacency_matrix(F, len(V))
-    # Input vertices within h of an output vertex are within h of the output. Only the
+    # Input vertices within reach of an output vertex are within reach of the output. Only the
     # others are measured, in every pass (one near a vertex that moves away is not
     # measured again: its other neighbours stay).
-    candidates = np.flatnonzero(cKDTree(X).query(V, workers=-1)[0] > h)
+    candidates = np.flatnonzero(cKDTree(X).query(V, workers=-1)[0] > reach)
     dist = np.zeros(len(V))
     failed = np.zeros(0, dtype=np.int64)  # (far point, vertex) pairs that did not move, as far * k + vertex
     for _ in range(passes):
         if len(candidates) == 0:
             return
         dist[candidates], near_face = _distance_to_output(V[candidates], X, Fo, VF)
-        keep = dist[candidates] > h
+        keep = dist[candidates] > reach
         candidates, near_face = candidates[keep], near_face[keep]
         nbr_max = np.maximum.reduceat(dist[A_in.indices], A_in.indptr[:-1])
         bottom = dist[candidates] >= nbr_max[candidates]

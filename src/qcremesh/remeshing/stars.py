@@ -55,8 +55,9 @@ def input_up(T, face, input_normals):
     from the other two): a face across the two walls of a narrow pocket has no side, and
     taken as turned over it blocked every move of its vertices (human_face at half its
     face count, seed 1: min q 0.079, now 0.485)."""
-    up = input_normals[face[T]].sum(1)
-    up[(face[T] < 0).any(1) | (np.linalg.norm(up, axis=1) < 2.0)] = 0.0
+    under = np.take(face, T)
+    up = np.take(input_normals, under, axis=0).sum(1)
+    up[(under < 0).any(1) | (np.linalg.norm(up, axis=1) < 2.0)] = 0.0
     return up
 
 
