@@ -59,6 +59,30 @@ def test_orientation_unreferenced_degenerate():
     np.testing.assert_array_equal(t.degenerate_faces(V, np.array([[0, 1, 2], [0, 1, 3], [0, 0, 3]])), [0, 2])
 
 
+def test_checks_from_twin_half_edges_agree():
+    """Given the twin half-edges, the edge checks and the boundary loops are those found
+    without them: on a grid with holes, a fin of four faces on one edge, bow-ties and
+    faces turned over (inconsistent_edges takes them on edge-manifold meshes)."""
+    uv, F = grid_disk(9)
+    centers = uv[F].mean(1)
+    holed = F[np.linalg.norm(centers - 0.3, axis=1) > 0.15]
+    turned = holed.copy()
+    turned[[3, 40, 41]] = turned[[3, 40, 41], ::-1]
+    fin = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4], [1, 0, 5], [2, 1, 6]])
+    bowties = np.r_[holed, [[100, 101, 102], [100, 103, 104], [0, 101, 105]]]
+    for F in (holed, turned, fin, bowties):
+        twins = t.twin_half_edges(F)
+        np.testing.assert_array_equal(t.nonmanifold_edges(F, twins), t.nonmanifold_edges(F))
+        np.testing.assert_array_equal(t.nonmanifold_vertices(F, twins), t.nonmanifold_vertices(F))
+        np.testing.assert_array_equal(t.boundary_edges(F, twins), t.boundary_edges(F))
+    for F in (holed, turned):
+        twins = t.twin_half_edges(F)
+        np.testing.assert_array_equal(t.inconsistent_edges(F, twins), t.inconsistent_edges(F))
+        for a, b in zip(t.boundary_loops(F, twins), t.boundary_loops(F)):
+            np.testing.assert_array_equal(a, b)
+    assert len(t.inconsistent_edges(turned)) > 0 and len(t.nonmanifold_edges(fin)) == 1
+
+
 def test_adjacency_matrix():
     F = np.array([[0, 1, 2], [2, 1, 3]])
     A = t.adjacency_matrix(F).toarray()

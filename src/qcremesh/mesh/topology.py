@@ -87,17 +87,20 @@ def edge_face_counts(F):
     return _keys_to_edges(keys, n), count
 
 
-def boundary_edges(F):
-    """Directed boundary edges (b, 2), oriented as in their face (interior on the left)."""
+def boundary_edges(F, twins=None):
+    """Directed boundary edges (b, 2), oriented as in their face (interior on the left).
+
+    ``twins``, the pairs of :func:`twin_half_edges` where already computed, spares their
+    sort."""
     F = np.asarray(F)
     H = half_edges(F)
-    i, j = _edge_pairs(_edge_keys(H, int(F.max()) + 1))
+    i, j = _edge_pairs(_edge_keys(H, int(F.max()) + 1)) if twins is None else twins
     single = np.ones(len(H), dtype=bool)
     single[i] = single[j] = False
     return H[single]
 
 
-def boundary_loops(F):
+def boundary_loops(F, twins=None):
     """Ordered boundary loops.
 
     Each loop follows the orientation of the faces (interior on the left, so the loop of a
@@ -109,6 +112,12 @@ def boundary_loops(F):
     Cycles are found by pointer jumping over the successor permutation of the boundary
     edges: O(b log b) vectorized work for b boundary edges.
 
+    Parameters
+    ----------
+    F : (m, 3) int
+    twins : tuple of (k,) int, optional
+        The pairs of :func:`twin_half_edges`, where already computed.
+
     Returns
     -------
     list of (k,) int64 arrays
@@ -119,7 +128,7 @@ def boundary_loops(F):
         If the faces are not consistently oriented along the boundary (a boundary vertex
         with more incoming than outgoing boundary edges).
     """
-    B = boundary_edges(F)
+    B = boundary_edges(F, twins)
     nb = len(B)
     if nb == 0:
         return []
@@ -200,7 +209,12 @@ def connected_components(F, n=None):
     """
     F = np.asarray(F)
     n = int(F.max()) + 1 if n is None else n
-    _, vlabel = _cc(adjacency_matrix(F, n), directed=False)
+    # Two edges of every face connect its three vertices; an edge listed twice (by both of
+    # its faces) connects nothing more, so the edges need not be made unique (a sort of
+    # every edge key less: 0.6 s at 1.7M faces).
+    rows, cols = np.r_[F[:, 0], F[:, 1]], np.r_[F[:, 1], F[:, 2]]
+    G = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, n))
+    _, vlabel = _cc(G, directed=False)
     flabel = vlabel[F[:, 0]]
     _, first, inv = np.unique(flabel, return_index=True, return_inverse=True)
     rank = np.argsort(np.argsort(first))
@@ -213,13 +227,21 @@ def euler_characteristic(F):
     return len(unique_integers(F)) - len(edges(F)) + len(F)
 
 
-def nonmanifold_edges(F):
-    """Undirected edges shared by more than two faces, (k, 2)."""
-    E, count = edge_face_counts(F)
-    return E[count > 2]
+def nonmanifold_edges(F, twins=None):
+    """Undirected edges shared by more than two faces, (k, 2), in lexicographic order.
+
+    ``twins``, the pairs of :func:`twin_half_edges` where already computed, spares a sort:
+    the half-edges of an edge in c faces make c - 1 pairs, consecutive there."""
+    if twins is None:
+        E, count = edge_face_counts(F)
+        return E[count > 2]
+    F = np.asarray(F)
+    n = int(F.max()) + 1
+    key = _edge_keys(half_edges(F)[twins[0]], n)
+    return _keys_to_edges(unique_integers(key[1:][key[1:] == key[:-1]]), n)
 
 
-def nonmanifold_vertices(F):
+def nonmanifold_vertices(F, twins=None):
     """Vertices whose incident faces form more than one fan (a pinch or bow-tie vertex).
 
     Around a vertex v, two incident faces are linked when they share an edge through v.
@@ -227,6 +249,8 @@ def nonmanifold_vertices(F):
     are counted for all vertices at once as connected components of a graph on the corners
     (face, vertex) pairs. Vertices on non-manifold edges are reported by
     :func:`nonmanifold_edges` and are not repeated here unless they also pinch.
+    ``twins``, the pairs of :func:`twin_half_edges` where already computed, spares their
+    sort.
 
     Returns
     -------
@@ -239,7 +263,7 @@ def nonmanifold_vertices(F):
     # that of corner next(h) = ((k + 1) % 3) * m + f; the half-edges of one edge are
     # consecutive once sorted by edge key.
     H = half_edges(F)
-    i, j = _edge_pairs(_edge_keys(H, int(F.max()) + 1))
+    i, j = _edge_pairs(_edge_keys(H, int(F.max()) + 1)) if twins is None else twins
 
     def entering(h):
         return (h // m + 1) % 3 * m + h % m
@@ -253,8 +277,9 @@ def nonmanifold_vertices(F):
     G = sp.coo_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(3 * m, 3 * m))
     _, fan = _cc(G, directed=False)
     pairs = unique_integers(corner_vertex.astype(np.int64) * (3 * m) + fan)
-    v, fans = np.unique(pairs // (3 * m), return_counts=True)
-    return v[fans > 1]
+    # the (vertex, fan) pairs are sorted by vertex: a vertex with two or more is pinched
+    v = pairs // (3 * m)
+    return unique_integers(v[1:][v[1:] == v[:-1]])
 
 
 def _edge_pairs(key):
@@ -281,17 +306,22 @@ def twin_half_edges(F):
     return _edge_pairs(_edge_keys(half_edges(F), int(F.max()) + 1))
 
 
-def inconsistent_edges(F):
+def inconsistent_edges(F, twins=None):
     """Interior edges whose two faces traverse them in the same direction, (k, 2).
 
     A consistently oriented mesh has none: each interior edge appears once as (a, b) and
-    once as (b, a).
+    once as (b, a). For an edge-manifold mesh, ``twins``, the pairs of
+    :func:`twin_half_edges` where already computed, spares a sort.
     """
     F = np.asarray(F)
     n = int(F.max()) + 1
     H = half_edges(F).astype(np.int64)
-    directed, count = np.unique(H[:, 0] * n + H[:, 1], return_counts=True)
-    bad = _keys_to_edges(directed[count > 1], n)
+    if twins is None:
+        directed, count = np.unique(H[:, 0] * n + H[:, 1], return_counts=True)
+        bad = _keys_to_edges(directed[count > 1], n)
+    else:
+        i, j = twins
+        bad = H[i[H[i, 0] == H[j, 0]]]
     return np.unique(_keys_to_edges(_edge_keys(bad, n), n), axis=0) if len(bad) else bad
 
 

@@ -75,6 +75,12 @@ def check_triangle_mesh(V, F):
     V : (n, 3) float
     F : (m, 3) int
     """
+    _check_triangle_mesh(V, F)
+
+
+def _check_triangle_mesh(V, F):
+    """The checks of :func:`check_triangle_mesh`; the pairs of twin half-edges
+    (:func:`qcremesh.mesh.topology.twin_half_edges`) that the last ones share."""
     V = np.asarray(V)
     F = np.asarray(F)
     if F.ndim != 2 or F.shape[1] != 3 or len(F) == 0:
@@ -100,23 +106,26 @@ def check_triangle_mesh(V, F):
             f"{_plural(len(degen), 'degenerate face')} (zero area or within rounding of it): "
             f"{_some(map(str, degen))}"
         )
-    bad_edges = topology.nonmanifold_edges(F)
+    # one sort of the edges for the three checks on them
+    twins = topology.twin_half_edges(F)
+    bad_edges = topology.nonmanifold_edges(F, twins)
     if len(bad_edges):
         where = _some(f"{a}-{b}" for a, b in bad_edges)
         raise NonManifoldError(f"{_plural(len(bad_edges), 'non-manifold edge')} at vertices {where}")
-    pinched = topology.nonmanifold_vertices(F)
+    pinched = topology.nonmanifold_vertices(F, twins)
     if len(pinched):
         raise NonManifoldError(
             f"{_plural(len(pinched), 'non-manifold vertex')} (faces in several fans): "
             f"{_some(map(str, pinched))}".replace("vertexs", "vertices")
         )
-    flipped = topology.inconsistent_edges(F)
+    flipped = topology.inconsistent_edges(F, twins)
     if len(flipped):
         where = _some(f"{a}-{b}" for a, b in flipped)
         raise OrientationError(
             f"faces are not consistently oriented: {_plural(len(flipped), 'edge')} "
             f"traversed twice in the same direction, at vertices {where}"
         )
+    return twins
 
 
 def check_disk(V, F):
@@ -138,13 +147,13 @@ def check_disk(V, F):
         disk has 1")`` or ``TopologyError("genus 1 (Euler characteristic -1), a disk has
         genus 0")``.
     """
-    check_triangle_mesh(V, F)
+    twins = _check_triangle_mesh(V, F)
     ncomp, _ = topology.connected_components(F, len(V))
     if ncomp != 1:
         soup = np.bincount(np.asarray(F).ravel()).max() == 1
         hint = " (no two faces share a vertex: weld the coincident vertices first)" if soup else ""
         raise TopologyError(f"{ncomp} connected components, a disk has 1{hint}")
-    loops = topology.boundary_loops(F)
+    loops = topology.boundary_loops(F, twins)
     if len(loops) == 0:
         raise TopologyError("closed surface (no boundary), a disk has 1 boundary loop")
     if len(loops) != 1:
