@@ -248,12 +248,13 @@ def _nearest(tree, queries, guess=None):
     if guess is None or len(tree.data) < 2:
         return tree.query(queries, workers=-1)[1]
     data = tree.data
-    spacing = tree.query(data, k=2)[0][:, 1]
-    near = np.take(data, guess, axis=0)
-    d = np.sqrt(((queries - near) ** 2).sum(1))
-    out = np.array(guess, dtype=np.int64)
     # (a margin under one half against the rounding of the two distances)
-    rest = np.flatnonzero(~(d < 0.499 * spacing[guess]))
+    safe = (0.499 * tree.query(data, k=2)[0][:, 1]) ** 2
+    d2 = np.zeros(len(queries))
+    for c in range(data.shape[1]):
+        d2 += (queries[:, c] - np.take(np.ascontiguousarray(data[:, c]), guess)) ** 2
+    out = np.array(guess, dtype=np.int64)
+    rest = np.flatnonzero(~(d2 < np.take(safe, guess)))
     out[rest] = tree.query(queries[rest], workers=-1)[1]
     return out
 

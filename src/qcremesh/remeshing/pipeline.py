@@ -400,8 +400,9 @@ def remesh(
                 stats["corner_quality_bound"] = float(corner_radius_ratio_bound(angle).min())
             samples_uv, samples_V, samples_F = dm.uv, V, F
             while len(samples_uv) < CVT_SAMPLES_PER_LANDMARK * (ni + nb):
-                samples_V, _ = upsample(samples_V, samples_F, 1)
-                samples_uv, samples_F = upsample(samples_uv, samples_F, 1)
+                # the points on the surface and in the disk subdivided together
+                both, samples_F = upsample(np.column_stack([samples_V, samples_uv]), samples_F, 1)
+                samples_V, samples_uv = both[:, :3], both[:, 3:]
             surface_area = vertex_areas(samples_V, samples_F, len(samples_uv))
             circle = np.column_stack([np.cos(theta), np.sin(theta)])
             circle_V = interpolate_on_boundary(boundary_angles(dm.uv, bnd), V[bnd], theta)
