@@ -72,9 +72,9 @@ def _vertex_normals(X, Fo, VF):
     return out / np.maximum(np.linalg.norm(out, axis=1, keepdims=True), 1e-300)
 
 
-def _mean_length(X, E):
-    """Mean length of the edges ``E`` (e, 2)."""
-    return np.linalg.norm(np.take(X, E[:, 0], axis=0) - np.take(X, E[:, 1], axis=0), axis=1).mean()
+def _edge_lengths(X, E):
+    """Lengths of the edges ``E`` (e, 2), (e,)."""
+    return np.linalg.norm(np.take(X, E[:, 0], axis=0) - np.take(X, E[:, 1], axis=0), axis=1)
 
 
 def _smooth(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, step):
@@ -86,7 +86,7 @@ def _smooth(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, st
     normal = _vertex_normals(X, Fo, VF)[verts]
     d = (ring @ X) / deg[:, None] - X[verts]
     d -= (d * normal).sum(1, keepdims=True) * normal
-    length = np.linalg.norm(np.take(X, E[:, 0], axis=0) - np.take(X, E[:, 1], axis=0), axis=1)
+    length = _edge_lengths(X, E)
     reach = (np.bincount(E[:, 0], length, k) + np.bincount(E[:, 1], length, k))[verts] / deg
     d *= step
     d *= np.minimum(1.0, 0.25 * reach / np.maximum(np.linalg.norm(d, axis=1), 1e-300))[:, None]
@@ -292,7 +292,7 @@ def relax_on_surface(
     if snap > 0:
         snap_to_far_points(
             X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, A_in, disk_uv, vertex_faces,
-            snap * _mean_length(X, E),
+            snap * _edge_lengths(X, E).mean(),
         )
     if min_quality > 0 and rounds > 0:
         raise_min_quality(
@@ -304,7 +304,7 @@ def relax_on_surface(
             # polish around, the snapped vertices staying.
             snap_to_far_points(
                 X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, A_in, disk_uv, vertex_faces,
-                snap * _mean_length(X, E),
+                snap * _edge_lengths(X, E).mean(),
             )
             raise_min_quality(
                 X, uv, face, s, Fo, A, VF, bnd, pinned | snapped, snapped, V, F, disk_uv, vertex_faces, curve,
