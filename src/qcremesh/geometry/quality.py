@@ -31,23 +31,29 @@ __all__ = [
 ]
 
 
-def _corners(V, F):
-    """Cross-product norms and dot products of the two edges at every corner, and the
-    lengths of the opposite edges, each (m, 3).
+def _corner_edges(V, F):
+    """The two edges at every corner and the lengths of the edges opposite, (m, 3, d)
+    twice and (m, 3).
 
     At corner k of face f, u = V[F[f, k+1]] - V[F[f, k]] and w = V[F[f, k+2]] - V[F[f, k]]
     (indices mod 3); the edge opposite corner k is w - u.
     """
-    V = np.asarray(V, dtype=np.float64)
     P = np.take(V, np.asarray(F), axis=0)
     u = np.roll(P, -1, axis=1) - P
     w = np.roll(P, -2, axis=1) - P
+    return u, w, np.linalg.norm(w - u, axis=-1)
+
+
+def _corners(V, F):
+    """Cross-product norms and dot products of the two edges at every corner, and the
+    lengths of the opposite edges, each (m, 3) (see :func:`_corner_edges`)."""
+    V = np.asarray(V, dtype=np.float64)
+    u, w, opposite = _corner_edges(V, F)
     if V.shape[1] == 2:
         cross = np.abs(u[..., 0] * w[..., 1] - u[..., 1] * w[..., 0])
     else:
         cross = np.linalg.norm(cross_product(u, w), axis=-1)
     dot = (u * w).sum(-1)
-    opposite = np.linalg.norm(w - u, axis=-1)
     return cross, dot, opposite
 
 
@@ -77,10 +83,7 @@ def radius_ratio(V, F):
     [1.0, 0.8]
     """
     V = np.asarray(V, dtype=np.float64)
-    P = np.take(V, np.asarray(F), axis=0)
-    u = np.roll(P, -1, axis=1) - P
-    w = np.roll(P, -2, axis=1) - P
-    opposite = np.linalg.norm(w - u, axis=-1)
+    u, w, opposite = _corner_edges(V, F)
     # the two edges at the corner opposite the longest edge
     k = np.argmax(opposite, axis=1)[:, None, None]
     a, b = np.take_along_axis(u, k, axis=1)[:, 0], np.take_along_axis(w, k, axis=1)[:, 0]

@@ -43,7 +43,10 @@ _STEPS = np.array([0.02, 0.06, 0.15, 0.3, 0.5])
 _PATIENCE = 30
 
 
-def raise_min_quality(X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_uv, vertex_faces, curve, target, rounds, held_floor=QUALITY_FLOOR):
+def raise_min_quality(
+    X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_uv, vertex_faces, curve, target, rounds,
+    held_floor=QUALITY_FLOOR,
+):
     """Pattern search that raises the smallest radius ratio of the faces around the
     vertices of the worst faces, in place.
 

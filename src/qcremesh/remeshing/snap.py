@@ -59,15 +59,15 @@ def snap_to_far_points(
     """Move output vertices onto (or towards) the input vertices farthest from the
     output surface: the bottoms of pockets and the tips the output cuts across.
 
-    In each pass, the input vertices farther than ``reach`` from the output, and at least as far as their input neighbours, each pull the
-    nearest interior vertex of their closest output face that has not moved all the way
-    yet (the farthest first, no two neighbours at once), but for the vertices that could
-    not move towards them at all in an earlier pass. The vertex goes the largest of
-    the fractions 1, 1/2, 1/4, 1/8 of the way in the disk (lifted onto the surface) that
-    keeps the disk mesh an embedding and its faces above a radius ratio of 0.3. A vertex
-    that moved is flagged in ``snapped``; one that went all the way (here or in an
-    earlier call) stays, one that went part of the way is flagged in ``partial`` and may
-    go on in a later pass or call.
+    In each pass, the input vertices farther than ``reach`` from the output, and at least
+    as far as their input neighbours, each pull the nearest interior vertex of their
+    closest output face that has not moved all the way yet (the farthest first, no two
+    neighbours at once), but for the vertices that could not move towards them at all in
+    an earlier pass. The vertex goes the largest of the fractions 1, 1/2, 1/4, 1/8 of the
+    way in the disk (lifted onto the surface) that keeps the disk mesh an embedding and
+    its faces above a radius ratio of 0.3. A vertex that moved is flagged in ``snapped``;
+    one that went all the way (here or in an earlier call) stays, one that went part of
+    the way is flagged in ``partial`` and may go on in a later pass or call.
 
     Parameters
     ----------
@@ -106,9 +106,9 @@ def snap_to_far_points(
     passes : int
         Maximum number of passes.
     """
-    # Input vertices within reach of an output vertex are within reach of the output. Only the
-    # others are measured, in every pass (one near a vertex that moves away is not
-    # measured again: its other neighbours stay).
+    # Input vertices within reach of an output vertex are within reach of the output.
+    # Only the others are measured, in every pass (one near a vertex that moves away is
+    # not measured again: its other neighbours stay).
     candidates = np.flatnonzero(cKDTree(X).query(V, workers=-1)[0] > reach)
     dist = np.zeros(len(V))
     failed = np.zeros(0, dtype=np.int64)  # (far point, vertex) pairs that did not move, as far * k + vertex
