@@ -1,4 +1,5 @@
-"""The compiled closest-point search (Numba, extra "fast") against the NumPy one."""
+"""The compiled closest-point search and point-triangle distances (Numba, extra "fast")
+against the NumPy ones."""
 
 import sys
 
@@ -7,6 +8,10 @@ import pytest
 
 from conftest import DATA
 from qcremesh import read_mesh, remesh
+from qcremesh.geometry import compiled as geometry_compiled
+from qcremesh.geometry import distance
+from qcremesh.geometry.compiled import pair_distances_kernel
+from qcremesh.geometry.distance import point_mesh_distance, point_triangle_distance
 from qcremesh.mesh.topology import vertex_face_incidence
 from qcremesh.remeshing import compiled, onsurface
 from qcremesh.remeshing.compiled import closest_point_near_kernel
@@ -51,9 +56,49 @@ def test_a_numba_that_cannot_be_imported_leaves_the_numpy_search(monkeypatch):
     start = np.arange(0, len(F), 7)
     P = V[F[start]].mean(1) + 0.3 * (V[F[start, 1]] - V[F[start, 0]])
     monkeypatch.setattr(compiled, "_state", None)
+    monkeypatch.setattr(geometry_compiled, "_state", None)
     monkeypatch.setitem(sys.modules, "numba", None)
     assert compiled.closest_point_near_kernel() is None
+    assert pair_distances_kernel() is None
     got = onsurface.closest_point_near(P, start, V, F, vertex_faces)
     expected = onsurface._closest_point_near(P, start, V, F, vertex_faces, 4)
     for e, g in zip(expected, got):
         np.testing.assert_array_equal(g, e)
+
+
+def test_compiled_pair_distances_are_the_numpy_ones_to_the_last_bit():
+    """Points near and far from the faces of a real scan, on its vertices and edges, and
+    faces made degenerate (a repeated corner, collinear corners): the compiled
+    distances are those of point_triangle_distance, bit for bit."""
+    V, F = read_mesh(DATA / "human_face.obj")
+    F = F.astype(np.int64)
+    F[:50, 2] = F[:50, 1]
+    V = V.copy()
+    V[F[50:100, 2]] = (V[F[50:100, 0]] + V[F[50:100, 1]]) / 2
+    rng = np.random.default_rng(5)
+    j = np.concatenate([np.arange(100), rng.integers(0, len(F), 20000)])
+    edge = np.linalg.norm(V[F[j, 0]] - V[F[j, 1]], axis=1)[:, None]
+    P = V[F[j]].mean(1) + rng.normal(0.0, 1.0, (len(j), 1)) * rng.normal(0.0, 1.0, (len(j), 3)) * edge
+    P[:300] = V[F[j[:300], 0]]
+    P[300:600] = (V[F[j[300:600], 0]] + V[F[j[300:600], 1]]) / 2
+    i = rng.permutation(len(j))
+    P = P[np.argsort(i)]
+    expected = point_triangle_distance(P[i], V[F[j, 0]], V[F[j, 1]], V[F[j, 2]])[0]
+    got = pair_distances_kernel()(P, V, F, i.astype(np.int64), j)
+    np.testing.assert_array_equal(got, expected)
+    assert np.isnan(got).sum() == 0 and (got == 0).sum() >= 300
+
+
+def test_point_mesh_distance_is_the_same_without_the_compiled_distances(monkeypatch):
+    """The nearest faces, distances and closest points of a remesh's samples on its input
+    (the Hausdorff distance's search) do not depend on which distance code measures the
+    candidates."""
+    V, F = read_mesh(DATA / "human_face.obj")
+    rng = np.random.default_rng(6)
+    f = rng.integers(0, len(F), 20000)
+    P = (V[F[f]] * rng.dirichlet([1, 1, 1], len(f))[:, :, None]).sum(1) + rng.normal(0.0, 0.3, (len(f), 3))
+    fast = point_mesh_distance(P, V, F)
+    monkeypatch.setattr(distance, "pair_distances_kernel", lambda: None)
+    plain = point_mesh_distance(P, V, F)
+    for a, b in zip(fast, plain):
+        np.testing.assert_array_equal(a, b)

@@ -19,11 +19,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry.compiled import numba_compile, point_triangle_kernel
+
 __all__ = ["closest_point_near_kernel"]
 
 # Numba is the optional extra "fast"; it is imported, and the functions compiled (or
 # loaded from its cache), at the first search, not with qcremesh (0.3 s).
 _state = None  # None: not tried yet; True: compiled; False: Numba cannot be imported
+_point_triangle = None  # the compiled point-triangle distance, which the search calls
 
 
 def _closest_point_near(P, face, V, F, indptr, indices, rounds):
@@ -73,55 +76,6 @@ def _closest_point_near(P, face, V, F, indptr, indices, rounds):
     return face, closest, bary
 
 
-def _dot(a0, a1, a2, b0, b1, b2):
-    return a0 * b0 + a1 * b1 + a2 * b2
-
-
-def _cross(a0, a1, a2, b0, b1, b2):
-    return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
-
-
-def _edge(x0, x1, x2, e0, e1, e2):
-    """Closest point of an edge (p + x + t e, t in [0, 1]) to p: (squared distance, t)."""
-    ee = _dot(e0, e1, e2, e0, e1, e2)
-    t = 0.0
-    if ee > 0:
-        t = min(max(-_dot(x0, x1, x2, e0, e1, e2) / ee, 0.0), 1.0)
-    g0, g1, g2 = x0 + t * e0, x1 + t * e1, x2 + t * e2
-    return _dot(g0, g1, g2, g0, g1, g2), t
-
-
-def _point_triangle(p0, p1, p2, V, a, b, c):
-    """Distance, closest point and barycentric coordinates of point p on triangle abc, by
-    the arithmetic of qcremesh.geometry.distance._triangle."""
-    # corners relative to p, and the edges ab, bc, ca
-    xa0, xa1, xa2 = V[a, 0] - p0, V[a, 1] - p1, V[a, 2] - p2
-    xb0, xb1, xb2 = V[b, 0] - p0, V[b, 1] - p1, V[b, 2] - p2
-    xc0, xc1, xc2 = V[c, 0] - p0, V[c, 1] - p1, V[c, 2] - p2
-    ea0, ea1, ea2 = V[b, 0] - V[a, 0], V[b, 1] - V[a, 1], V[b, 2] - V[a, 2]
-    eb0, eb1, eb2 = V[c, 0] - V[b, 0], V[c, 1] - V[b, 1], V[c, 2] - V[b, 2]
-    ec0, ec1, ec2 = V[a, 0] - V[c, 0], V[a, 1] - V[c, 1], V[a, 2] - V[c, 2]
-    n0, n1, n2 = _cross(ec0, ec1, ec2, ea0, ea1, ea2)
-    nn = _dot(n0, n1, n2, n0, n1, n2)
-    l0 = _dot(*_cross(xb0, xb1, xb2, eb0, eb1, eb2), n0, n1, n2)
-    l1 = _dot(*_cross(xc0, xc1, xc2, ec0, ec1, ec2), n0, n1, n2)
-    l2 = _dot(*_cross(xa0, xa1, xa2, ea0, ea1, ea2), n0, n1, n2)
-    if l0 >= 0 and l1 >= 0 and l2 >= 0 and nn > 0:
-        h = _dot(xa0, xa1, xa2, n0, n1, n2) / nn
-        return np.sqrt(h * h * nn), p0 + h * n0, p1 + h * n1, p2 + h * n2, l0 / nn, l1 / nn, l2 / nn
-    da, ta = _edge(xa0, xa1, xa2, ea0, ea1, ea2)
-    db, tb = _edge(xb0, xb1, xb2, eb0, eb1, eb2)
-    dc, tc = _edge(xc0, xc1, xc2, ec0, ec1, ec2)
-    if da <= db and da <= dc:
-        s = 1 - ta
-        return np.sqrt(da), p0 + xa0 + ta * ea0, p1 + xa1 + ta * ea1, p2 + xa2 + ta * ea2, s, ta, 0.0
-    if db <= dc:
-        s = 1 - tb
-        return np.sqrt(db), p0 + xb0 + tb * eb0, p1 + xb1 + tb * eb1, p2 + xb2 + tb * eb2, 0.0, s, tb
-    s = 1 - tc
-    return np.sqrt(dc), p0 + xc0 + tc * ec0, p1 + xc1 + tc * ec1, p2 + xc2 + tc * ec2, tc, 0.0, s
-
-
 def closest_point_near_kernel():
     """The compiled search, ``search(P, face, V, F, vertex_faces, rounds) -> (face,
     closest, bary)`` on one chunk of points, as
@@ -129,19 +83,13 @@ def closest_point_near_kernel():
     imported (not installed, or built for another NumPy), and the NumPy search is to be
     used. The functions are compiled (or loaded from Numba's cache) at the first
     search; Numba compiles under a lock, so threads may make it."""
-    global _state, _dot, _cross, _edge, _point_triangle, _closest_point_near
+    global _state, _point_triangle, _closest_point_near
     if _state is None:
-        try:
-            import numba
-        except ImportError:
-            _state = False
-        else:
-            # error_model="numpy": a degenerate face divides by zero into inf or nan, as
-            # in NumPy. Numba resolves the callees when it compiles, at the first call.
-            jit = numba.njit(cache=True, nogil=True, error_model="numpy")
-            _dot, _cross, _edge, _point_triangle = jit(_dot), jit(_cross), jit(_edge), jit(_point_triangle)
-            _closest_point_near = jit(_closest_point_near)
-            _state = True
+        kernel = point_triangle_kernel()
+        _state = kernel is not None
+        if _state:
+            _point_triangle = kernel
+            _closest_point_near = numba_compile(_closest_point_near)
     return _search if _state else None
 
 

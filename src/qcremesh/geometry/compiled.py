@@ -1,0 +1,120 @@
+"""Compiled point-triangle distance (Numba, the optional extra ``fast``).
+
+The exact distance from a point to a triangle, written out for one pair at a time with
+the arithmetic of :func:`qcremesh.geometry.distance.point_triangle_distance` in the same
+order (the signed-area inside test, the three edges, the first nearest edge on ties), so
+the compiled and the NumPy code give the same numbers to the last bit (tests compare
+them). Two users: the nearest-face search of
+:func:`~qcremesh.geometry.distance.point_mesh_distance`, which measures a few candidate
+faces per point (:func:`pair_distances_kernel`), and the closest-point search on the
+surface of :mod:`qcremesh.remeshing.compiled` (:func:`point_triangle_kernel`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["numba_compile", "pair_distances_kernel", "point_triangle_kernel"]
+
+# Numba is imported, and the functions compiled (or loaded from its cache), at the first
+# call that asks for them, not with qcremesh (0.3 s).
+_state = None  # None: not tried yet; True: compiled; False: Numba cannot be imported
+
+
+def _dot(a0, a1, a2, b0, b1, b2):
+    return a0 * b0 + a1 * b1 + a2 * b2
+
+
+def _cross(a0, a1, a2, b0, b1, b2):
+    return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+
+
+def _edge(x0, x1, x2, e0, e1, e2):
+    """Closest point of an edge (p + x + t e, t in [0, 1]) to p: (squared distance, t)."""
+    ee = _dot(e0, e1, e2, e0, e1, e2)
+    t = 0.0
+    if ee > 0:
+        t = min(max(-_dot(x0, x1, x2, e0, e1, e2) / ee, 0.0), 1.0)
+    g0, g1, g2 = x0 + t * e0, x1 + t * e1, x2 + t * e2
+    return _dot(g0, g1, g2, g0, g1, g2), t
+
+
+def _point_triangle(p0, p1, p2, V, a, b, c):
+    """Distance, closest point and barycentric coordinates of point p on triangle abc, by
+    the arithmetic of qcremesh.geometry.distance._triangle."""
+    # corners relative to p, and the edges ab, bc, ca
+    xa0, xa1, xa2 = V[a, 0] - p0, V[a, 1] - p1, V[a, 2] - p2
+    xb0, xb1, xb2 = V[b, 0] - p0, V[b, 1] - p1, V[b, 2] - p2
+    xc0, xc1, xc2 = V[c, 0] - p0, V[c, 1] - p1, V[c, 2] - p2
+    ea0, ea1, ea2 = V[b, 0] - V[a, 0], V[b, 1] - V[a, 1], V[b, 2] - V[a, 2]
+    eb0, eb1, eb2 = V[c, 0] - V[b, 0], V[c, 1] - V[b, 1], V[c, 2] - V[b, 2]
+    ec0, ec1, ec2 = V[a, 0] - V[c, 0], V[a, 1] - V[c, 1], V[a, 2] - V[c, 2]
+    n0, n1, n2 = _cross(ec0, ec1, ec2, ea0, ea1, ea2)
+    nn = _dot(n0, n1, n2, n0, n1, n2)
+    l0 = _dot(*_cross(xb0, xb1, xb2, eb0, eb1, eb2), n0, n1, n2)
+    l1 = _dot(*_cross(xc0, xc1, xc2, ec0, ec1, ec2), n0, n1, n2)
+    l2 = _dot(*_cross(xa0, xa1, xa2, ea0, ea1, ea2), n0, n1, n2)
+    if l0 >= 0 and l1 >= 0 and l2 >= 0 and nn > 0:
+        h = _dot(xa0, xa1, xa2, n0, n1, n2) / nn
+        return np.sqrt(h * h * nn), p0 + h * n0, p1 + h * n1, p2 + h * n2, l0 / nn, l1 / nn, l2 / nn
+    da, ta = _edge(xa0, xa1, xa2, ea0, ea1, ea2)
+    db, tb = _edge(xb0, xb1, xb2, eb0, eb1, eb2)
+    dc, tc = _edge(xc0, xc1, xc2, ec0, ec1, ec2)
+    if da <= db and da <= dc:
+        s = 1 - ta
+        return np.sqrt(da), p0 + xa0 + ta * ea0, p1 + xa1 + ta * ea1, p2 + xa2 + ta * ea2, s, ta, 0.0
+    if db <= dc:
+        s = 1 - tb
+        return np.sqrt(db), p0 + xb0 + tb * eb0, p1 + xb1 + tb * eb1, p2 + xb2 + tb * eb2, 0.0, s, tb
+    s = 1 - tc
+    return np.sqrt(dc), p0 + xc0 + tc * ec0, p1 + xc1 + tc * ec1, p2 + xc2 + tc * ec2, tc, 0.0, s
+
+
+def _pair_distances(P, V, F, i, j):
+    """Distance from point ``P[i[k]]`` to face ``F[j[k]]`` for every k, (k,)."""
+    out = np.empty(len(i))
+    for k in range(len(i)):
+        p, f = i[k], j[k]
+        out[k] = _point_triangle(P[p, 0], P[p, 1], P[p, 2], V, F[f, 0], F[f, 1], F[f, 2])[0]
+    return out
+
+
+def numba_compile(func):
+    """``func`` compiled by Numba with the options of every kernel of qcremesh: cached on
+    disk, without the GIL (threads run it in parallel), and error_model="numpy" (a
+    degenerate face divides by zero into inf or nan, as in NumPy). Numba resolves the
+    functions ``func`` calls when it compiles it, at its first call."""
+    import numba
+
+    return numba.njit(cache=True, nogil=True, error_model="numpy")(func)
+
+
+def _compile():
+    """Compile the kernels at the first call; whether they are."""
+    global _state, _dot, _cross, _edge, _point_triangle, _pair_distances
+    if _state is None:
+        try:
+            import numba  # noqa: F401
+        except ImportError:
+            _state = False
+        else:
+            _dot, _cross, _edge = numba_compile(_dot), numba_compile(_cross), numba_compile(_edge)
+            _point_triangle, _pair_distances = numba_compile(_point_triangle), numba_compile(_pair_distances)
+            _state = True
+    return _state
+
+
+def point_triangle_kernel():
+    """The compiled ``point_triangle(p0, p1, p2, V, a, b, c) -> (dist, q0, q1, q2, l0, l1,
+    l2)``: distance, closest point and barycentric coordinates of the point (p0, p1, p2)
+    on the triangle of the vertices ``a``, ``b``, ``c`` of ``V`` (n, 3), for use in other
+    compiled functions; None where Numba cannot be imported."""
+    return _point_triangle if _compile() else None
+
+
+def pair_distances_kernel():
+    """The compiled ``pair_distances(P, V, F, i, j) -> (k,)``, the distances from points
+    ``P[i]`` (q, 3) to faces ``F[j]`` of the mesh (V (n, 3) float, F (m, 3) int64) for
+    index arrays ``i``, ``j`` (k,) int64, as ``point_triangle_distance(P[i], *V[F[j]].
+    transpose(1, 0, 2))[0]``; None where Numba cannot be imported."""
+    return _pair_distances if _compile() else None
