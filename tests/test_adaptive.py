@@ -10,6 +10,7 @@ from qcremesh.adaptive.basemesh import (
     hexagonal_disk_points,
     subdivide_disk_mesh,
 )
+from qcremesh.adaptive import landmarks
 from qcremesh.adaptive.density import area_distortion, vertex_density
 from qcremesh.adaptive.landmarks import (
     boundary_angles,
@@ -130,14 +131,19 @@ def test_voronoi_owner_on_a_folded_strip():
     np.testing.assert_array_equal(voronoi_owner(samples, generators, fold(x), fold(g), candidates=3), [2, 2])
 
 
-def test_voronoi_owner_guess_changes_nothing():
+@pytest.mark.parametrize("compiled", [True, False])
+def test_voronoi_owner_guess_changes_nothing(compiled, monkeypatch):
     """Owners guessed from generators that have since moved (as in Lloyd's iteration), or
     guessed at random, give the owners found without a guess, in the disk and on a
-    surface (a paraboloid over the disk)."""
+    surface (a paraboloid over the disk), with the compiled test of the guesses and
+    without it; two generators on top of each other (a tie) included."""
+    if not compiled:
+        monkeypatch.setattr(landmarks, "guess_is_nearest_kernel", lambda: None)
     rng = np.random.default_rng(3)
     samples = rng.uniform(-1, 1, (20000, 2))
     before = rng.uniform(-1, 1, (300, 2))
     after = before + rng.normal(scale=0.02, size=before.shape)
+    after[1] = after[0]
 
     def lift(p):
         return np.column_stack([p, (p**2).sum(1)])

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..geometry.compiled import guess_is_nearest_kernel
 from ..geometry.threads import map_row_chunks
 
 __all__ = [
@@ -42,6 +43,10 @@ __all__ = [
 # Surface cells (voronoi_owner) give each sample the generator nearest in space among this
 # many generators nearest in the disk.
 SURFACE_CELL_CANDIDATES = 16
+
+# The compiled owner test of Lloyd's iteration (_nearest) compares each sample's distance
+# to its previous owner with that to this many generators nearest to the owner.
+NEIGHBOURS = 8
 
 
 def boundary_angles(uv, bnd):
@@ -242,19 +247,35 @@ def _nearest(tree, queries, guess=None):
     Where a ``guess`` (q,) is given, the search is skipped for the queries closer to
     their guessed point than half the distance from it to the nearest other point of the
     tree: no other point can be as close (the triangle inequality), so the guess is the
-    nearest, and the answer is that of the search. Lloyd's iteration moves the
-    generators little, so the owners of the previous iteration spare most searches.
+    nearest, and the answer is that of the search. With the compiled test (Numba), the
+    queries within half the distance to the guess's NEIGHBOURS-th nearest point are
+    certified as well where they are strictly nearer to the guess than to each of those
+    neighbours. Lloyd's iteration moves the generators little, so the owners of the
+    previous iteration spare most searches (the base method's CVT on hand.ply: 39-42 %
+    of the samples searched; with the compiled test, 5-8 %).
     """
     if guess is None or len(tree.data) < 2:
         return tree.query(queries, workers=-1)[1]
     data = tree.data
+    kernel = guess_is_nearest_kernel()
+    k = min(NEIGHBOURS, len(data) - 1) if kernel is not None else 1
+    spacing, neighbours = tree.query(data, k=k + 1, workers=-1)
     # (a margin under one half against the rounding of the two distances)
-    safe = (0.499 * tree.query(data, k=2)[0][:, 1]) ** 2
-    d2 = np.zeros(len(queries))
-    for c in range(data.shape[1]):
-        d2 += (queries[:, c] - np.take(np.ascontiguousarray(data[:, c]), guess)) ** 2
+    safe = (0.499 * spacing[:, 1]) ** 2
     out = np.array(guess, dtype=np.int64)
-    rest = np.flatnonzero(~(d2 < np.take(safe, guess)))
+    if kernel is not None:
+        X, far = np.ascontiguousarray(data, dtype=np.float64), (0.499 * spacing[:, -1]) ** 2
+        neighbours = np.ascontiguousarray(neighbours[:, 1:], dtype=np.int64)
+        (certified,) = map_row_chunks(
+            lambda Q, g: (kernel(Q, X, g, neighbours, safe, far),),
+            [np.ascontiguousarray(queries, dtype=np.float64), out],
+        )
+    else:
+        d2 = np.zeros(len(queries))
+        for c in range(data.shape[1]):
+            d2 += (queries[:, c] - np.take(np.ascontiguousarray(data[:, c]), guess)) ** 2
+        certified = d2 < np.take(safe, guess)
+    rest = np.flatnonzero(~certified)
     out[rest] = tree.query(queries[rest], workers=-1)[1]
     return out
 
@@ -437,7 +458,7 @@ def cvt_landmarks(
         samples, mass, weight, positions = samples[order], mass[order], weight[order], positions[order]
 
         def owners(points):
-            at = positions_in_input_order[sample_tree.query(points)[1]] if len(points) else positions[:0]
+            at = positions_in_input_order[sample_tree.query(points, workers=-1)[1]] if len(points) else positions[:0]
             owner = voronoi_owner(
                 samples, np.concatenate([fixed, points]), positions, np.concatenate([fixed_positions, at]),
                 guess=guess(points),

@@ -1,20 +1,24 @@
-"""Compiled point-triangle distance (Numba, the optional extra ``fast``).
+"""Compiled kernels (Numba, the optional extra ``fast``) of loops that NumPy would run
+over many small gathers.
 
-The exact distance from a point to a triangle, written out for one pair at a time with
-the arithmetic of :func:`qcremesh.geometry.distance.point_triangle_distance` in the same
-order (the signed-area inside test, the three edges, the first nearest edge on ties), so
-the compiled and the NumPy code give the same numbers to the last bit (tests compare
-them). Two users: the nearest-face search of
-:func:`~qcremesh.geometry.distance.point_mesh_distance`, which measures a few candidate
-faces per point (:func:`pair_distances_kernel`), and the closest-point search on the
-surface of :mod:`qcremesh.remeshing.compiled` (:func:`point_triangle_kernel`).
+- The exact distance from a point to a triangle, written out for one pair at a time with
+  the arithmetic of :func:`qcremesh.geometry.distance.point_triangle_distance` in the
+  same order (the signed-area inside test, the three edges, the first nearest edge on
+  ties), so the compiled and the NumPy code give the same numbers to the last bit (tests
+  compare them). Two users: the nearest-face search of
+  :func:`~qcremesh.geometry.distance.point_mesh_distance`, which measures a few
+  candidate faces per point (:func:`pair_distances_kernel`), and the closest-point search
+  on the surface of :mod:`qcremesh.remeshing.compiled` (:func:`point_triangle_kernel`).
+- The test that a guessed nearest point is the nearest (:func:`guess_is_nearest_kernel`),
+  which spares Lloyd's iteration most of its nearest-generator searches; it certifies
+  only what the search would answer, so the owners are the same with it and without.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["numba_compile", "pair_distances_kernel", "point_triangle_kernel"]
+__all__ = ["guess_is_nearest_kernel", "numba_compile", "pair_distances_kernel", "point_triangle_kernel"]
 
 # Numba is imported, and the functions compiled (or loaded from its cache), at the first
 # call that asks for them, not with qcremesh (0.3 s).
@@ -79,6 +83,35 @@ def _pair_distances(P, V, F, i, j):
     return out
 
 
+def _guess_is_nearest(Q, X, guess, neighbours, near2, far2):
+    """Whether point ``X[guess[i]]`` is strictly the nearest point of X to ``Q[i]``, for
+    every i, certified by :func:`guess_is_nearest_kernel`'s test: (q,) bool."""
+    out = np.zeros(Q.shape[0], dtype=np.bool_)
+    d = Q.shape[1]
+    for i in range(Q.shape[0]):
+        g = guess[i]
+        own = 0.0
+        for c in range(d):
+            own += (Q[i, c] - X[g, c]) ** 2
+        if own < near2[g]:
+            out[i] = True
+            continue
+        if not own < far2[g]:
+            continue
+        nearest = True
+        for n in range(neighbours.shape[1]):
+            h = neighbours[g, n]
+            other = 0.0
+            for c in range(d):
+                other += (Q[i, c] - X[h, c]) ** 2
+            # (a margin far above rounding: the near-ties go to the search)
+            if not own < other * (1.0 - 1e-12):
+                nearest = False
+                break
+        out[i] = nearest
+    return out
+
+
 def numba_compile(func):
     """``func`` compiled by Numba with the options of every kernel of qcremesh: cached on
     disk, without the GIL (threads run it in parallel), and error_model="numpy" (a
@@ -91,7 +124,7 @@ def numba_compile(func):
 
 def _compile():
     """Compile the kernels at the first call; whether they are."""
-    global _state, _dot, _cross, _edge, _point_triangle, _pair_distances
+    global _state, _dot, _cross, _edge, _point_triangle, _pair_distances, _guess_is_nearest
     if _state is None:
         try:
             import numba  # noqa: F401
@@ -100,6 +133,7 @@ def _compile():
         else:
             _dot, _cross, _edge = numba_compile(_dot), numba_compile(_cross), numba_compile(_edge)
             _point_triangle, _pair_distances = numba_compile(_point_triangle), numba_compile(_pair_distances)
+            _guess_is_nearest = numba_compile(_guess_is_nearest)
             _state = True
     return _state
 
@@ -118,3 +152,17 @@ def pair_distances_kernel():
     index arrays ``i``, ``j`` (k,) int64, as ``point_triangle_distance(P[i], *V[F[j]].
     transpose(1, 0, 2))[0]``; None where Numba cannot be imported."""
     return _pair_distances if _compile() else None
+
+
+def guess_is_nearest_kernel():
+    """The compiled ``guess_is_nearest(Q, X, guess, neighbours, near2, far2) -> (q,)
+    bool``: True where ``X[guess[i]]`` is certified to be strictly the nearest point of
+    X (g, d) to ``Q[i]`` (Q (q, d) float), False where it may not be. ``neighbours``
+    (g, k) int64 are the k points of X nearest to each point (itself excluded), and
+    ``near2`` and ``far2`` (g,) a little under the squares of half the distances to the
+    nearest and to the farthest of them. A point closer to its guess than half the
+    distance to some point of X is nearer to the guess than to any point of X at least
+    that far (the triangle inequality): it is certified within ``near2``, and within
+    ``far2`` when it is also strictly nearer to the guess than to each neighbour. None
+    where Numba cannot be imported."""
+    return _guess_is_nearest if _compile() else None
