@@ -275,7 +275,10 @@ def nonmanifold_vertices(F, twins=None):
     rows = np.r_[i, entering(i)]
     cols = np.r_[u1, u2]
     G = sp.coo_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(3 * m, 3 * m))
-    _, fan = _cc(G, directed=False)
+    fans, fan = _cc(G, directed=False)
+    # Every fan has the corners of one vertex: as many fans as vertices, none pinched.
+    if fans == np.count_nonzero(np.bincount(corner_vertex)):
+        return np.zeros(0, dtype=np.int64)
     pairs = unique_integers(corner_vertex.astype(np.int64) * (3 * m) + fan)
     # the (vertex, fan) pairs are sorted by vertex: a vertex with two or more is pinched
     v = pairs // (3 * m)
