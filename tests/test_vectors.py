@@ -1,6 +1,6 @@
 import numpy as np
 
-from qcremesh.geometry.vectors import cross
+from qcremesh.geometry.vectors import cross, norm
 
 
 def test_cross_of_the_basis_is_right_handed():
@@ -15,3 +15,15 @@ def test_cross_is_numpy_cross_to_the_last_bit():
     assert np.array_equal(cross(a, b), np.cross(a, b))
     # broadcast as numpy.cross: one vector against many
     assert np.array_equal(cross(a[:, 0], b[0, 0]), np.cross(a[:, 0], b[0, 0]))
+
+
+def test_norm_is_numpy_norm_to_the_last_bit():
+    """Lengths of 2- and 3-vectors over many scales, on contiguous arrays and on views
+    whose last axis is strided (the corners of faces, a transposed array)."""
+    rng = np.random.default_rng(8)
+    for d in (2, 3):
+        a = rng.normal(size=(500, 4, d)) * 10.0 ** rng.integers(-150, 150, size=(500, 4, d))
+        assert np.array_equal(norm(a), np.linalg.norm(a, axis=-1))
+        view = np.ascontiguousarray(a.transpose(2, 0, 1)).transpose(1, 2, 0)
+        assert np.array_equal(norm(view), np.linalg.norm(view, axis=-1))
+    np.testing.assert_array_equal(norm([[3.0, 4.0, 12.0], [np.inf, 0.0, 1.0]]), [13.0, np.inf])

@@ -16,6 +16,7 @@ from scipy.spatial import cKDTree
 from ..mesh.topology import half_edges
 from .compiled import pair_distances_kernel
 from .operators import doublearea
+from .vectors import norm
 
 __all__ = [
     "point_segment_distance",
@@ -292,7 +293,7 @@ def _triangle_balls(corners, area):
     area : (m,) float
     """
     centers, radii = _bounding_balls(corners)
-    lengths = np.linalg.norm(np.roll(corners, -2, axis=1) - np.roll(corners, -1, axis=1), axis=2)
+    lengths = norm(np.roll(corners, -2, axis=1) - np.roll(corners, -1, axis=1))
     k = lengths.argmax(1)
     L = lengths.max(1)
     h = np.divide(2 * area, L, out=np.zeros(len(L)), where=L > 0)

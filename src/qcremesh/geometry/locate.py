@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from .distance import point_mesh_distance, point_triangle_distance
+from .vectors import norm
 
 __all__ = ["locate_points", "interpolate_barycentric"]
 
@@ -58,7 +59,7 @@ def locate_points(uv, F, P, rtol=1e-12):
     dist, face, _ = point_mesh_distance(P, uv, F)
     corners = np.take(uv, np.take(F, face, axis=0), axis=0)
     _, _, bary = point_triangle_distance(P, corners[:, 0], corners[:, 1], corners[:, 2])
-    longest = np.linalg.norm(np.roll(corners, -1, axis=1) - corners, axis=2).max(1)
+    longest = norm(np.roll(corners, -1, axis=1) - corners).max(1)
     return face, bary, dist <= rtol * longest
 
 

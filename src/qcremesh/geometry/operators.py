@@ -7,7 +7,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..mesh.topology import adjacency_matrix
-from .vectors import cross
+from .vectors import cross, norm
 
 __all__ = ["doublearea", "signed_doublearea", "vertex_areas", "face_gradients", "cotmatrix", "uniform_laplacian"]
 
@@ -23,7 +23,7 @@ def doublearea(V, F):
     b = np.take(V, F[:, 2], axis=0) - np.take(V, F[:, 0], axis=0)
     if V.shape[1] == 2:
         return np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
-    return np.linalg.norm(cross(a, b), axis=1)
+    return norm(cross(a, b))
 
 
 def signed_doublearea(uv, F):

@@ -19,6 +19,7 @@ from ..mesh.topology import (
 )
 from .distance import hausdorff_distance, polyline_hausdorff_distance
 from .vectors import cross as cross_product
+from .vectors import norm
 
 __all__ = [
     "radius_ratio",
@@ -41,7 +42,7 @@ def _corner_edges(V, F):
     P = np.take(V, np.asarray(F), axis=0)
     u = np.roll(P, -1, axis=1) - P
     w = np.roll(P, -2, axis=1) - P
-    return u, w, np.linalg.norm(w - u, axis=-1)
+    return u, w, norm(w - u)
 
 
 def _corners(V, F):
@@ -52,7 +53,7 @@ def _corners(V, F):
     if V.shape[1] == 2:
         cross = np.abs(u[..., 0] * w[..., 1] - u[..., 1] * w[..., 0])
     else:
-        cross = np.linalg.norm(cross_product(u, w), axis=-1)
+        cross = norm(cross_product(u, w))
     dot = (u * w).sum(-1)
     return cross, dot, opposite
 
@@ -90,7 +91,7 @@ def radius_ratio(V, F):
     if V.shape[1] == 2:
         dbl = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
     else:
-        dbl = np.linalg.norm(cross_product(a, b), axis=1)
+        dbl = norm(cross_product(a, b))
     den = opposite.sum(1) * opposite.prod(1)
     return np.divide(4 * dbl**2, den, out=np.zeros(len(den)), where=den > 0)
 

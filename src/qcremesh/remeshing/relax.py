@@ -34,7 +34,7 @@ from ..adaptive.landmarks import interpolate_on_boundary
 from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
-from ..geometry.vectors import cross
+from ..geometry.vectors import cross, norm
 from ..mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
 from .min_quality import QUALITY_FLOOR, raise_min_quality
 from .onsurface import BoundaryCurve, closest_point_near, csr_rows
@@ -69,12 +69,12 @@ def _vertex_normals(X, Fo, VF):
     incidence of ``Fo``."""
     P0, P1, P2 = (np.take(X, Fo[:, c], axis=0) for c in range(3))
     out = VF @ cross(P1 - P0, P2 - P0)
-    return out / np.maximum(np.linalg.norm(out, axis=1, keepdims=True), 1e-300)
+    return out / np.maximum(norm(out), 1e-300)[:, None]
 
 
 def _edge_lengths(X, E):
     """Lengths of the edges ``E`` (e, 2), (e,)."""
-    return np.linalg.norm(np.take(X, E[:, 0], axis=0) - np.take(X, E[:, 1], axis=0), axis=1)
+    return norm(np.take(X, E[:, 0], axis=0) - np.take(X, E[:, 1], axis=0))
 
 
 def _smooth(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, step):
@@ -89,7 +89,7 @@ def _smooth(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, st
     length = _edge_lengths(X, E)
     reach = (np.bincount(E[:, 0], length, k) + np.bincount(E[:, 1], length, k))[verts] / deg
     d *= step
-    d *= np.minimum(1.0, 0.25 * reach / np.maximum(np.linalg.norm(d, axis=1), 1e-300))[:, None]
+    d *= np.minimum(1.0, 0.25 * reach / np.maximum(norm(d), 1e-300))[:, None]
     new_X, new_uv, new_face = X.copy(), uv.copy(), face.copy()
     f, cp, b = closest_point_near(X[verts] + d, face[verts], V, F, vertex_faces)
     new_face[verts], new_X[verts] = f, cp
@@ -125,8 +125,8 @@ def _locate(disk_uv, F, vertex_faces, A, uv, inner, hint):
         flat = np.column_stack([disk_uv, np.zeros(len(disk_uv))])
         f, closest, b = closest_point_near(P, start[walk], flat, F, vertex_faces, rounds=WALK_ROUNDS)
         corners = flat[F[f]]
-        longest = np.linalg.norm(np.roll(corners, -1, axis=1) - corners, axis=2).max(1)
-        inside = np.linalg.norm(closest - P, axis=1) <= LOCATE_RTOL * longest
+        longest = norm(np.roll(corners, -1, axis=1) - corners).max(1)
+        inside = norm(closest - P) <= LOCATE_RTOL * longest
         face[walk[inside]], bary[walk[inside]] = f[inside], b[inside]
     rest = np.flatnonzero(face < 0)
     if len(rest):

@@ -32,6 +32,7 @@ from ..geometry.distance import point_triangle_distance
 from ..geometry.locate import interpolate_barycentric
 from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
+from ..geometry.vectors import norm
 from .min_quality import QUALITY_FLOOR
 from .onsurface import closest_point_near, csr_rows, independent_first, nearest_per_owner
 
@@ -123,7 +124,7 @@ def snap_to_far_points(
         far, T = candidates[bottom], Fo[near_face[bottom]]
         fixed = pinned | (snapped & ~partial)
         fixed[bnd] = True
-        dT = np.linalg.norm(X[T] - V[far][:, None], axis=2)
+        dT = norm(X[T] - V[far][:, None])
         dT[fixed[T]] = np.inf
         dT[np.isin(far[:, None] * len(X) + T, failed)] = np.inf
         j = np.argmin(dT, axis=1)
