@@ -585,13 +585,15 @@ def markdown(results):
         f"{m['usable_cores']} cores "
         "and the times are noisier)",
         "- " + ", ".join(f"{k} {v}" for k, v in m["packages"].items()) + "\n",
-        "Each tool runs on each mesh in a process of its own. Times are wall times of the tool's "
+        "Each tool runs in a process of its own, kept for all its jobs (the jobs one at a time, "
+        "interleaved across tools; the scaling runs each in a new process). Times are wall times of the tool's "
         "call alone (loading the mesh excluded, conversion to and from the tool's own mesh type "
         "included), after one untimed run on a small mesh (so that importing the tool and "
         "loading compiled code is in no timed run): the median of "
         f"up to {s['runs']} runs, fewer once the runs add up to {s['budget_s']:.0f} s, with "
         "min and max. Peak MB "
-        f"is the peak resident memory of that process.\n",
+        "is the peak resident memory of that process during the job (its mark reset at the "
+        "job's start, so memory an earlier job of the process left allocated counts too).\n",
     ]
     if results.get("param"):
         out += _param_section(results)

@@ -2,7 +2,7 @@
 
     python benchmarks/run.py [--data DIR] [--out DIR] [--quick] [--parts ...] [--tools ...]
 
-Five parts, each tool on each mesh in a process of its own (worker.py):
+Five parts; each tool runs in a process of its own (worker.py), kept for its jobs:
 
 * param: disk parameterizations of every disk mesh (qcremesh's Algorithm 1, Tutte, libigl
   harmonic with arc-length boundary, libigl LSCM), with |mu| of the map disk -> surface,
@@ -29,13 +29,17 @@ import hashlib
 import io
 import json
 import os
+import queue
 import subprocess
 import sys
+import tempfile
+import threading
 import time
 from pathlib import Path
 
 import qcremesh
 import report
+from worker import RESULT_MARK
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -138,31 +142,93 @@ def inventory(folder, names):
     return meshes, skipped
 
 
-def run_job(job, args, runs=None):
-    """Run worker.py on one job (at most ``runs`` timed runs, ``--runs`` by default); the
-    row it reports, or the failure."""
-    spec = dict(job, runs=runs or args.runs, budget=args.budget)
-    t0 = time.perf_counter()
-    try:
-        proc = subprocess.run(
-            [sys.executable, str(HERE / "worker.py"), json.dumps(spec)],
-            capture_output=True,
+class Workers:
+    """worker.py processes, one per tool and kind of job, each kept for all the jobs of
+    its tool: the jobs of the tools still run one at a time, in the order given
+    (interleaved across tools, so that a change of the host's load affects them alike),
+    without a start, imports and warm-up of the tool per job (1-1.5 s each). A worker
+    that dies or overruns the timeout is stopped, its job reported as failed, and the
+    next job of its tool starts a new one."""
+
+    def __init__(self, timeout):
+        self.timeout = timeout
+        self.running = {}  # key -> (process, queue of its output lines, its stderr file)
+
+    def _start(self, key):
+        err = tempfile.TemporaryFile(mode="w+")
+        proc = subprocess.Popen(
+            [sys.executable, str(HERE / "worker.py")],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=err,
             text=True,
-            timeout=args.timeout,
             cwd=HERE,
         )
-    except subprocess.TimeoutExpired:
-        row = {"status": "failed", "reason": f"timed out after {args.timeout:.0f} s"}
-    else:
-        lines = proc.stdout.strip().splitlines()
-        if proc.returncode == 0 and lines:
-            row = json.loads(lines[-1])
-        else:
-            last = (proc.stderr.strip().splitlines() or ["no output"])[-1]
-            row = {
-                "status": "failed",
-                "reason": f"worker exited with status {proc.returncode}: {last}",
-            }
+        lines = queue.Queue()
+        threading.Thread(target=_pump, args=(proc.stdout, lines), daemon=True).start()
+        self.running[key] = (proc, lines, err)
+
+    def run(self, key, spec, fresh=False):
+        """The row of job ``spec`` run by the worker of ``key``, or the failure; with
+        ``fresh``, in a new process of its own (for a peak memory of this job alone)."""
+        if fresh:
+            self.stop(key)
+        if key not in self.running:
+            self._start(key)
+        proc, lines, err = self.running[key]
+        with contextlib.suppress(OSError):  # a worker that died is reported below
+            proc.stdin.write(json.dumps(spec) + "\n")
+            proc.stdin.flush()
+        deadline = time.monotonic() + self.timeout
+        while True:
+            try:
+                line = lines.get(timeout=max(deadline - time.monotonic(), 0.0))
+            except queue.Empty:
+                failure = f"timed out after {self.timeout:.0f} s"
+                break
+            if line is None:
+                err.seek(0)
+                last = (err.read().strip().splitlines() or ["no output"])[-1]
+                failure = f"worker exited with status {proc.wait()}: {last}"
+                break
+            if line.startswith(RESULT_MARK):
+                row = json.loads(line[len(RESULT_MARK) :])
+                if fresh:
+                    self.stop(key)
+                return row
+        self.stop(key, kill=True)
+        return {"status": "failed", "reason": failure}
+
+    def stop(self, key, kill=False):
+        """End the worker of ``key``, if there is one: at the end of its input, or
+        ``kill`` it."""
+        if key in self.running:
+            proc, _, err = self.running.pop(key)
+            if kill:
+                proc.kill()
+            with contextlib.suppress(OSError):
+                proc.stdin.close()
+            proc.wait()
+            err.close()
+
+    def close(self):
+        for key in list(self.running):
+            self.stop(key)
+
+
+def _pump(stream, lines):
+    """Lines of a worker's output into ``lines``, then None at its end."""
+    for line in stream:
+        lines.put(line)
+    lines.put(None)
+
+
+def run_job(job, args, runs=None, fresh=False):
+    """Run one job in the worker of its tool (at most ``runs`` timed runs, ``--runs`` by
+    default; ``fresh``: in a new process); the row it reports, or the failure."""
+    spec = dict(job, runs=runs or args.runs, budget=args.budget)
+    t0 = time.perf_counter()
+    row = args.workers.run((job["kind"], job["tool"]), spec, fresh)
     row.update(job)
     row["wall_s"] = time.perf_counter() - t0
     print(report.progress_line(row), file=sys.stderr, flush=True)
@@ -275,8 +341,9 @@ def scaling_rows(path, args):
     for kind in ("param", "remesh"):
         for level in SCALING_LEVELS:
             job = {"kind": kind, "tool": "qcremesh", "mesh": str(path), "name": path.name}
-            # The remesh part measures the output; here only time and memory count.
-            row = run_job(dict(job, subdivide=level, measure=kind == "param"), args)
+            # The remesh part measures the output; here only time and memory count, the
+            # peak memory of a process that ran nothing else.
+            row = run_job(dict(job, subdivide=level, measure=kind == "param"), args, fresh=True)
             rows.append(row)
             if row["status"] == "skipped":
                 break
@@ -293,6 +360,7 @@ def main(argv=None):
     meshes, skipped = inventory(args.data, names)
     scaling_name = args.scaling_mesh or (names[0] if args.quick else "hand.ply")
 
+    args.workers = Workers(args.timeout)
     t0 = time.perf_counter()
     results = {
         "machine": report.machine(),
@@ -311,6 +379,7 @@ def main(argv=None):
     if "scaling" in args.parts and (args.data / scaling_name).is_file():
         results["scaling"] = scaling_rows(args.data / scaling_name, args)
         results["scaling_fit"] = report.fit_exponents(results["scaling"])
+    args.workers.close()
     results["total_s"] = time.perf_counter() - t0
     results["machine"]["load_average_end"] = os.getloadavg()[0]
 

@@ -1,9 +1,12 @@
-"""Runs one tool on one mesh, in a process of its own, and prints one line of JSON.
+"""Runs jobs of one tool, one at a time, in a process kept for that tool, and prints one
+line of JSON per job.
 
-    python worker.py '{"kind": "param" | "remesh", "tool": ..., "mesh": PATH,
-                       "subdivide": 0, "faces": N, "runs": 3, "budget": 5}'
+    python worker.py < jobs    # one JSON job per line, e.g.
+    {"kind": "param" | "remesh", "tool": ..., "mesh": PATH, "subdivide": 0, "faces": N,
+     "runs": 3, "budget": 5}
 
-A remesh job with ``"variant": {"method": ..., "relax": ...}`` runs that ablation of
+Each result line starts with RESULT_MARK (a tool may print to standard output too). A
+remesh job with ``"variant": {"method": ..., "relax": ...}`` runs that ablation of
 qcremesh (``tools.qcremesh_variant``).
 
 Remesh only: ``"start"`` is a first edge length for the tools calibrated by length;
@@ -11,10 +14,12 @@ Remesh only: ``"start"`` is a first edge length for the tools calibrated by leng
 ``"measure": false`` the output is not measured (time and memory only). Loading
 and subdividing the mesh are not timed. The tool first runs once, untimed, on a small
 mesh (:func:`warm_up`), then up to ``runs`` times, fewer when the runs so far add up to
-``budget`` seconds, at least once; the wall time of each call is recorded. Peak memory is the peak resident set of this process, read before anything
-is measured (so it includes Python, the libraries and the loaded mesh). The measures
-then come from the same code for every tool: ``qcremesh.beltrami_coefficient`` for
-parameterizations and ``qcremesh.geometry.quality.mesh_quality`` for remeshers.
+``budget`` seconds, at least once; the wall time of each call is recorded. Peak memory
+is the peak resident set of this process from the start of the job (the kernel's mark
+is reset then; it includes Python, the libraries and the loaded mesh), read before
+anything is measured. The measures then come from the same code for every tool:
+``qcremesh.beltrami_coefficient`` for parameterizations and
+``qcremesh.geometry.quality.mesh_quality`` for remeshers.
 """
 
 from __future__ import annotations
@@ -37,13 +42,22 @@ FACE_TOLERANCE = 0.02
 MAX_CALIBRATION_RUNS = 4
 
 
+RESULT_MARK = "RESULT "
+
+
 def memory_mb(field):
     """A memory figure of this process from /proc/self/status: VmRSS (resident now) or
-    VmHWM (peak resident). Unlike getrusage's ru_maxrss, VmHWM starts afresh at exec,
-    so it is this tool's peak, not that of the driver that started it."""
+    VmHWM (peak resident since the start or the last :func:`reset_peak_memory`)."""
     with open("/proc/self/status") as f:
         kb = next(line.split()[1] for line in f if line.startswith(field + ":"))
     return int(kb) / 1024
+
+
+def reset_peak_memory():
+    """Start VmHWM afresh from the present resident set (Linux: 5 written to
+    /proc/self/clear_refs), so that a job's peak is not that of an earlier job."""
+    with open("/proc/self/clear_refs", "w") as f:
+        f.write("5")
 
 
 def timed(call, *args):
@@ -193,12 +207,14 @@ def run_remesher(job, V, F):
     return result
 
 
-def main():
-    job = json.loads(sys.argv[1])
-    V, F = qcremesh.read_mesh(job["mesh"])
-    V, F = upsample(V, F, job.get("subdivide", 0))
-    result = {"vertices_in": len(V), "faces_in": len(F), "load_rss_mb": memory_mb("VmRSS")}
+def run(job):
+    """The result row of one job."""
+    reset_peak_memory()
+    result = {}
     try:
+        V, F = qcremesh.read_mesh(job["mesh"])
+        V, F = upsample(V, F, job.get("subdivide", 0))
+        result.update(vertices_in=len(V), faces_in=len(F), load_rss_mb=memory_mb("VmRSS"))
         if job["kind"] == "param":
             result.update(run_parameterization(job, V, F))
         else:
@@ -208,7 +224,13 @@ def main():
         result.update(status="skipped", reason=str(reason))
     except Exception as error:  # a tool that cannot take this mesh: reported, not fatal
         result.update(status="failed", reason=f"{type(error).__name__}: {error}")
-    print(json.dumps(result))
+    return result
+
+
+def main():
+    for line in sys.stdin:
+        if line.strip():
+            print(RESULT_MARK + json.dumps(run(json.loads(line))), flush=True)
 
 
 if __name__ == "__main__":
