@@ -1,6 +1,7 @@
 import numpy as np
 
-from conftest import grid_disk
+from conftest import DATA, grid_disk
+from qcremesh.mesh.io import read_mesh
 from qcremesh.mesh import topology as t
 
 
@@ -130,3 +131,16 @@ def test_orient_faces_reverses_the_minority():
     H, reversed_ = t.orient_faces(np.where(turned[:, None], F, F[:, ::-1]))
     np.testing.assert_array_equal(reversed_, turned)
     np.testing.assert_array_equal(H, F[:, ::-1])
+
+
+def test_adjacency_matrix_has_a_one_on_every_edge_both_ways():
+    """On a scan with a boundary (its edges counted once or twice by the faces) and with
+    more vertices than the faces use: ones exactly on the edges, in both directions, in
+    canonical CSR form, the last vertex an empty row."""
+    V, F = read_mesh(DATA / "human_face.obj")
+    E = t.edges(F)
+    A = t.adjacency_matrix(F, len(V) + 1)
+    assert A.shape == (len(V) + 1, len(V) + 1) and A.has_canonical_format
+    assert A.nnz == 2 * len(E) and np.all(A.data == 1.0)
+    assert np.all(A[E[:, 0], E[:, 1]] == 1.0) and np.all(A[E[:, 1], E[:, 0]] == 1.0)
+    assert A[len(V)].nnz == 0

@@ -337,7 +337,9 @@ def _plateau_centre(V, F, torsion):
     found by two sweeps of Dijkstra's algorithm (from the maximum to the farthest vertex,
     and from there to the farthest again)."""
     plateau = torsion >= (1 - PLATEAU) * torsion.max()
-    E = edges(F)
+    # (the edges of the faces with two corners or more on the plateau: no sort of them all)
+    near = F[plateau[F].sum(1) >= 2]
+    E = edges(near) if len(near) else np.zeros((0, 2), dtype=np.int64)
     E = E[plateau[E[:, 0]] & plateau[E[:, 1]]]
     length = np.linalg.norm(V[E[:, 0]] - V[E[:, 1]], axis=1)
     graph = sp.csr_matrix((length, (E[:, 0], E[:, 1])), shape=(len(V), len(V)))
