@@ -207,7 +207,7 @@ def run_remesher(job, V, F):
     return result
 
 
-def run(job):
+def job_result(job):
     """The result row of one job."""
     reset_peak_memory()
     result = {}
@@ -230,7 +230,7 @@ def run(job):
 def main():
     for line in sys.stdin:
         if line.strip():
-            print(RESULT_MARK + json.dumps(run(json.loads(line))), flush=True)
+            print(RESULT_MARK + json.dumps(job_result(json.loads(line))), flush=True)
 
 
 if __name__ == "__main__":
