@@ -144,7 +144,7 @@ def boundary_corners(V, bnd, angle=45.0, scale=None):
     return np.sort(np.asarray(kept, dtype=np.int64))
 
 
-def smoothed_arc_length(P, width):
+def smoothed_arc_length(P, width, density=None):
     """Arc length along a closed polyline measured on the polyline smoothed at a scale:
     notches and teeth narrower than ``width`` count for little more than their mouth.
 
@@ -154,11 +154,15 @@ def smoothed_arc_length(P, width):
     a hundredth of the raw arc length, which keeps it strictly increasing, interpolated
     linearly in t at the vertices.
 
+    With a ``density`` g at the vertices, sigma counts each edge times the mean of g at
+    its ends (the arc length in the metric of a sizing field 1 / g).
+
     Parameters
     ----------
     P : (b, d) float
         Vertices of the closed polyline (the edge from the last back to the first included).
     width : float
+    density : (b,) float, optional
 
     Returns
     -------
@@ -178,12 +182,17 @@ def smoothed_arc_length(P, width):
     smooth = (csum[2 * half + 1 :] - csum[: -2 * half - 1]) / (2 * half + 1)
     step = np.linalg.norm(np.roll(smooth, -1, axis=0) - smooth, axis=1)
     sigma = np.r_[0.0, np.cumsum(step)] + 0.01 * np.r_[t, perimeter]
-    return np.interp(s, np.r_[t, perimeter], sigma)
+    sigma = np.interp(s, np.r_[t, perimeter], sigma)
+    if density is None:
+        return sigma
+    g = np.asarray(density, dtype=np.float64)
+    return np.r_[0.0, np.cumsum(np.diff(sigma) * (g + np.roll(g, -1)) / 2)]
 
 
-def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0):
+def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None):
     """Boundary landmarks: ``count`` points spaced uniformly by arc length along the
-    surface boundary, the sharp corners included, as angles on the circle.
+    surface boundary (in the metric of a sizing field 1 / ``density``, where given), the
+    sharp corners included, as angles on the circle.
 
     The arc length is that of the boundary smoothed at the landmark spacing
     (:func:`smoothed_arc_length`), so a notch of a scanned border narrower than the
@@ -203,6 +212,8 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0):
         Number of boundary landmarks wanted (at least 3).
     corner_angle : float
         Turning angle in degrees above which a boundary vertex is a corner.
+    density : (b,) float, optional
+        Landmarks per unit length at the boundary vertices, relative to each other.
 
     Returns
     -------
@@ -214,7 +225,7 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0):
     P = np.asarray(V, dtype=np.float64)[bnd]
     scale = _arc_length(P)[-1] / max(count, 3)
     corners = boundary_corners(V, bnd, corner_angle, scale=scale)
-    sigma = smoothed_arc_length(P, scale)
+    sigma = smoothed_arc_length(P, scale, density)
     total = sigma[-1]
     starts = corners if len(corners) else np.array([0])
     s0 = sigma[starts]

@@ -142,14 +142,15 @@ class BoundaryCurve:
     [0, perimeter) smoothed at the scale ``width`` (see
     :func:`~qcremesh.adaptive.landmarks.smoothed_arc_length`), with its points on the
     surface and their images on the circle (linear in s on every edge, as the disk map
-    is)."""
+    is). With a ``density`` g per input vertex, s is measured in the metric of the sizing
+    field 1 / g, so that points evenly spaced in s follow it."""
 
-    def __init__(self, disk_uv, F, V, width):
+    def __init__(self, disk_uv, F, V, width, density=None):
         self.loop = boundary_loop(F)
         self.theta = boundary_angles(disk_uv, self.loop)
         self.theta_knots = np.r_[self.theta, self.theta[0] + 2 * np.pi]
         self.points = V[self.loop]
-        self.s = smoothed_arc_length(self.points, width)
+        self.s = smoothed_arc_length(self.points, width, None if density is None else np.asarray(density)[self.loop])
         self.perimeter = self.s[-1]
 
     def arc_length(self, theta):
