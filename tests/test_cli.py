@@ -258,3 +258,24 @@ def test_remesh_cli_warns_of_a_corner_too_sharp_for_good_triangles(tmp_path, cap
         "are about as thin (a fan of triangles filling that angle has one with a radius ratio of at most 0.26)"
     ) in err
     assert (tmp_path / "w.ply").is_file()
+
+
+def test_remesh_cli_sizing_from_a_vertex_array(tmp_path, capsys):
+    V, F = read_mesh(DATA / "fran_cut.ply")
+    # edges half as long on the lower half of the model
+    z = (V[:, 2] - V[:, 2].min()) / np.ptp(V[:, 2])
+    path = tmp_path / "sized.vtk"
+    write_mesh(path, V, F, data={"size": np.clip(2 * z, 0.5, 1.0)})
+    out = tmp_path / "r.ply"
+    assert main(["remesh", str(path), "-o", str(out), "--faces", "3000", "--sizing", "size"]) == 0
+    assert "sizing (size): edges planned down to 0.50 of the longest" in capsys.readouterr().out
+    assert abs(len(read_mesh(out)[1]) - 3000) <= 150
+    assert main(["remesh", str(path), "-o", str(tmp_path / "x.ply"), "--sizing", "width"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert err == f"qcremesh: error: --sizing: {path} has no per-vertex array 'width' (it has: size)"
+    args = ["remesh", str(path), "-o", str(tmp_path / "x.ply"), "--sizing", "curvature", "--method", "uniform"]
+    assert main(args) == 1
+    assert capsys.readouterr().err.strip() == (
+        "qcremesh: error: --sizing does not go with --method uniform (a regular mesh of the disk)"
+    )
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.ply", "sized.vtk"]

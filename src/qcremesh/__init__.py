@@ -6,6 +6,7 @@ plain numpy arrays: ``V`` (n, 3) float64 vertices and ``F`` (m, 3) int64 triangl
 
 __version__ = "0.1.0"
 
+from .adaptive.sizing import curvature_sizing
 from .beltrami.coefficient import beltrami_coefficient, compose_beltrami, mu_chop
 from .beltrami.solver import generalized_laplacian, linear_beltrami_solver
 from .beltrami.teichmuller import teichmuller_map
@@ -32,5 +33,6 @@ __all__ = [
     "teichmuller_map",
     "remesh",
     "RemeshResult",
+    "curvature_sizing",
     "mesh_quality",
 ]

@@ -109,6 +109,12 @@ def _parser():
     r.add_argument(
         "--relax", type=int, default=40, metavar="K", help="tangential relaxation sweeps on the surface (0: the paper's pipeline alone; default 40)"
     )
+    r.add_argument(
+        "--sizing",
+        metavar="curvature|NAME",
+        help="grade the edge lengths: 'curvature' (shorter where the surface bends at their scale) or the name "
+        "of a per-vertex array of the input holding the relative edge length wanted",
+    )
     r.add_argument("--report", metavar="DIR", help="write figures and report.html into DIR")
 
     m = sub.add_parser("quality", help="triangle quality of a mesh, and its distance to a reference")
@@ -159,6 +165,9 @@ def _quality_lines(q):
 
 
 def _remesh(args, out):
+    import numpy as np
+
+    from ..adaptive.sizing import check_sizing
     from ..geometry.quality import mesh_quality
     from ..remeshing.pipeline import remesh
 
@@ -175,14 +184,28 @@ def _remesh(args, out):
         raise CommandError("--levels must be >= 0")
     if args.relax < 0:
         raise CommandError("--relax must be >= 0")
+    if args.sizing is not None and args.method == "uniform":
+        raise CommandError("--sizing does not go with --method uniform (a regular mesh of the disk)")
     t0 = time.perf_counter()
     V, F, data = read_mesh(args.input, return_data=True)
     t_read = time.perf_counter() - t0
+    sizing = args.sizing
+    if sizing not in (None, "curvature"):
+        if sizing not in data:
+            arrays = ", ".join(sorted(data)) or "none"
+            raise CommandError(f"--sizing: {args.input} has no per-vertex array {sizing!r} (it has: {arrays})")
+        sizing = np.asarray(data[sizing], dtype=np.float64)
+        if sizing.ndim == 2 and sizing.shape[1] == 1:
+            sizing = sizing[:, 0]
+        try:
+            sizing = check_sizing(sizing, len(V))
+        except ValueError as exc:
+            raise CommandError(f"--sizing {args.sizing}: {exc}") from exc
     update, close = _progress()
     try:
         result = remesh(
             V, F, args.faces, levels=args.levels, method=args.method, seed=args.seed, relax=args.relax,
-            data=data, progress=update,
+            sizing=sizing, data=data, progress=update,
         )
     except MeshError as exc:
         raise CommandError(f"{args.input}: {exc}") from exc
@@ -226,6 +249,8 @@ def _remesh(args, out):
             f"has one with a radius ratio of at most {st['corner_quality_bound']:.2f})",
             file=sys.stderr,
         )
+    if "sizing_min_ratio" in st:
+        print(f"sizing ({args.sizing}): edges planned down to {st['sizing_min_ratio']:.2f} of the longest", file=out)
     if "teichmuller_k" in st:
         print(
             f"Teichmueller map: k = {st['teichmuller_k']:.4f} after {st['teichmuller_iterations']} iterations"

@@ -21,6 +21,10 @@ with projection back onto the surface).
 8. Beyond the paper, optional (``relax``, on by default): tangential relaxation on the
    surface and a search that raises the minimum quality (:mod:`qcremesh.remeshing.relax`).
 
+Beyond the paper too, a ``sizing`` field (per input vertex, or ``"curvature"``, see
+:mod:`qcremesh.adaptive.sizing`) grades the edge lengths: the landmarks spread the surface
+area weighted by sizing^-2, and the relaxation keeps their grading.
+
 The ablations of the paper are the ``method`` option: ``"uniform"`` (a regular mesh of the
 disk projected as is, Fig. 7), ``"base"`` (the base mesh only), ``"subdivided"`` (steps 1-5
 without the Teichmueller map, Figs. 18-20 (c)) and ``"teichmuller"`` (all steps,
@@ -47,6 +51,7 @@ from ..adaptive.landmarks import (
     cvt_landmarks,
     interpolate_on_boundary,
 )
+from ..adaptive.sizing import check_sizing, curvature_sizing
 from ..beltrami.coefficient import coherent_mu
 from ..beltrami.teichmuller import teichmuller_map
 from ..geometry.locate import interpolate_barycentric, locate_points
@@ -190,13 +195,13 @@ def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
     return out
 
 
-def _repair(V, F, data, stats):
+def _repair(V, F, data, sizing, stats):
     """The input made acceptable to the disk map where the validation refused it for
     what can be mended without moving the surface (more than 1e-3 of an edge): faces
     turned against their neighbours are reversed (:func:`qcremesh.mesh.topology.orient_faces`,
     the majority's orientation kept), needles merged and caps flipped away
     (:func:`qcremesh.geometry.repair.repair_degenerate_faces`). Returns the new vertices,
-    faces and per-vertex data (of the vertices kept), counting what was done in
+    faces, per-vertex data and sizing field (of the vertices kept), counting what was done in
     ``stats``; None where nothing applies or another defect stands first (non-manifold
     edges or vertices, unreferenced vertices), which the validation then names."""
     n = len(V)
@@ -214,19 +219,27 @@ def _repair(V, F, data, stats):
     if needle.any() or cap.any():
         V, F, kept = repair_degenerate_faces(V, F)
         data = {k: np.asarray(v)[kept] for k, v in data.items()} if data else data
+        sizing = sizing[kept] if sizing is not None else None
         stats.update(repaired_needles=int(needle.sum()), repaired_caps=int(cap.sum()))
         repaired = True
-    return (V, F, data) if repaired else None
+    return (V, F, data, sizing) if repaired else None
 
 
-def _plan(V, F, bnd, faces, levels):
+def _plan(V, F, bnd, faces, levels, density=None):
     """Numbers of boundary and interior landmarks for ``faces`` output faces, the spacing
-    of the boundary landmarks along the boundary, and the base mesh's face count wanted."""
+    of the boundary landmarks along the boundary, and the base mesh's face count wanted.
+    With a ``density`` (n,), the inverse of a sizing field, areas are counted times
+    density^2 and boundary lengths times density."""
     base_faces = max(faces / 4**levels, 4.0)
-    area = doublearea(V, F).sum() / 2
+    if density is None:
+        area = doublearea(V, F).sum() / 2
+    else:
+        area = (vertex_areas(V, F, len(V)) * density**2).sum()
     h = np.sqrt(4 * area / (np.sqrt(3) * base_faces))
-    perimeter = np.linalg.norm(V[np.roll(bnd, -1)] - V[bnd], axis=1).sum()
-    nb = max(int(round(perimeter / h)), 3)
+    lengths = np.linalg.norm(V[np.roll(bnd, -1)] - V[bnd], axis=1)
+    perimeter = lengths.sum()
+    sized = perimeter if density is None else (lengths * (density[bnd] + density[np.roll(bnd, -1)]) / 2).sum()
+    nb = max(int(round(sized / h)), 3)
     ni = max(int(round((base_faces - nb + 2) / 2)), 0)
     return nb, ni, perimeter / nb, base_faces
 
@@ -244,6 +257,7 @@ def remesh(
     relax=40,
     teichmuller_iterations=5,
     retries=2,
+    sizing=None,
     data=None,
     progress=None,
 ):
@@ -306,6 +320,15 @@ def remesh(
         drawn again from another CVT initialization, up to this many times, and the draw
         with the largest smallest radius ratio is kept (``stats["draws"]`` is the number
         made). Only with ``relax`` and a method that draws landmarks.
+    sizing : (n,) float or "curvature", optional
+        Edge length wanted at each input vertex relative to the others (only the ratios
+        count: the face count sets the scale), or ``"curvature"`` for
+        :func:`qcremesh.adaptive.sizing.curvature_sizing` at the output's mean edge
+        length (edges down to 0.6 of the rest where the surface bends at their scale).
+        The landmarks spread the surface area weighted by sizing^-2 and the boundary
+        ones, and the relaxation's boundary vertices, the boundary length weighted by
+        sizing^-1; the interior keeps the grading of the landmarks' connectivity. Not
+        with ``"uniform"``.
     data : dict of str to (n,) or (n, d) array, optional
         Per-vertex attributes (normals, colours, scalars, UVs) to carry to the output.
     progress : callable, optional
@@ -326,6 +349,15 @@ def remesh(
     faces = len(F) if faces is None else int(faces)
     if faces < 4:
         raise ValueError("faces must be at least 4")
+    curvature = isinstance(sizing, str)
+    if curvature:
+        if sizing != "curvature":
+            raise ValueError(f"unknown sizing {sizing!r}; give one value per input vertex or 'curvature'")
+        sizing = None  # computed on the input as the disk map takes it
+    elif sizing is not None:
+        sizing = check_sizing(sizing, len(V))
+    if (curvature or sizing is not None) and method == "uniform":
+        raise ValueError("the 'uniform' method takes no sizing")
     if method == "base":
         levels = 0
     while levels > 0 and faces / 4**levels < MIN_BASE_FACES:
@@ -345,10 +377,10 @@ def remesh(
     try:
         dm = disk_conformal_map(V, F)
     except (OrientationError, DegenerateFaceError) as error:
-        repaired = _repair(V, F, data, stats)
+        repaired = _repair(V, F, data, sizing, stats)
         if repaired is None:
             raise error
-        V, F, data = repaired
+        V, F, data, sizing = repaired
         dm = disk_conformal_map(V, F)
     stats.update(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces
@@ -356,6 +388,12 @@ def remesh(
     done("parameterize")
 
     bnd = dm.boundary
+    if curvature:
+        edge = np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * faces))
+        sizing = curvature_sizing(V, F, edge)
+    density = None if sizing is None else 1.0 / sizing
+    if density is not None:
+        stats["sizing_min_ratio"] = float(sizing.min() / sizing.max())
     # Where the map is far from conformal, the base mesh's Delaunay triangles are
     # stretched on the surface.
     stretch = coherent_mu(F, dm.mu, len(V), NONCONFORMAL_RINGS)
@@ -367,7 +405,7 @@ def remesh(
     # Where the CVT's cells come out far from equal on the surface (above MAX_CELL_SPREAD),
     # fewer levels (more landmarks) are planned and the landmarks drawn again.
     while True:
-        nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels)
+        nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels, density)
         # A base mesh with fewer interior landmarks than boundary ones is mostly chords
         # between boundary landmarks, which neither subdivision nor relaxation turns into a
         # regular mesh (camel_b.obj, cut open along slits into a disk whose boundary is 28
@@ -375,7 +413,7 @@ def remesh(
         # face count, mean radius ratio 0.51); with fewer levels the base mesh gets an interior.
         while levels > 0 and ni < nb:
             levels -= 1
-            nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels)
+            nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels, density)
         stats["levels"] = levels
 
         # What the landmarks of every draw share: the boundary landmarks, and the samples of
@@ -387,7 +425,9 @@ def remesh(
             theta = 2 * np.pi * np.arange(nbu) / nbu
             corner = np.zeros(nbu, dtype=bool)
         else:
-            theta, corner = boundary_landmarks(V, dm.uv, bnd, nb, corner_angle)
+            theta, corner = boundary_landmarks(
+                V, dm.uv, bnd, nb, corner_angle, None if density is None else density[bnd]
+            )
             stats["boundary_corners"] = int(corner.sum())
             if corner.any():
                 # The sharpest corner kept bounds the smallest radius ratio of the output,
@@ -399,11 +439,19 @@ def remesh(
                 stats["sharpest_corner_degrees"] = float(np.degrees(angle.min()))
                 stats["corner_quality_bound"] = float(corner_radius_ratio_bound(angle).min())
             samples_uv, samples_V, samples_F = dm.uv, V, F
+            samples_density = density
             while len(samples_uv) < CVT_SAMPLES_PER_LANDMARK * (ni + nb):
-                # the points on the surface and in the disk subdivided together
-                both, samples_F = upsample(np.column_stack([samples_V, samples_uv]), samples_F, 1)
-                samples_V, samples_uv = both[:, :3], both[:, 3:]
+                # the points on the surface and in the disk (and the density) subdivided together
+                fields = [samples_V, samples_uv] + ([] if density is None else [samples_density])
+                both, samples_F = upsample(np.column_stack(fields), samples_F, 1)
+                samples_V, samples_uv = both[:, :3], both[:, 3:5]
+                samples_density = None if density is None else both[:, 5]
             surface_area = vertex_areas(samples_V, samples_F, len(samples_uv))
+            # The measure to spread and, as a CVT places its points with the square root
+            # of its weight per unit area, the weight.
+            cvt_mass, cvt_weight = surface_area, None
+            if density is not None:
+                cvt_mass, cvt_weight = surface_area * samples_density**2, surface_area * samples_density**4
             circle = np.column_stack([np.cos(theta), np.sin(theta)])
             circle_V = interpolate_on_boundary(boundary_angles(dm.uv, bnd), V[bnd], theta)
         done("landmarks")
@@ -422,8 +470,8 @@ def remesh(
                     interior = hexagonal_disk_points(spacing)
                 else:
                     cvt = cvt_landmarks(
-                        samples_uv, surface_area, circle, count, positions=samples_V, fixed_positions=circle_V,
-                        iterations=cvt_iterations, seed=cvt_seed,
+                        samples_uv, cvt_mass, circle, count, weight=cvt_weight, positions=samples_V,
+                        fixed_positions=circle_V, iterations=cvt_iterations, seed=cvt_seed,
                     )
                     interior = cvt.points
                     run.update(cvt_iterations=cvt.iterations, cvt_uniformity=cvt.uniformity)
@@ -523,7 +571,8 @@ def remesh(
                     coarse_F = hierarchy[-2][1]
                     coarse_uv, _, coarse_faces = relax_on_surface(
                         dm.uv, F, V, coarse_uv, coarse_F, iterations=relax, pinned=pinned[: len(coarse_uv)],
-                        boundary_scale=2 * scale, min_quality=0, regular_rounds=0, return_faces=True,
+                        boundary_scale=2 * scale, min_quality=0, regular_rounds=0, density=density,
+                        return_faces=True,
                     )
                     uv = subdivide_disk_mesh(coarse_uv, coarse_F, 1)[-1][0]
                     # The coarse vertices keep their input faces; the new ones are found
@@ -531,7 +580,8 @@ def remesh(
                     faces_hint = np.r_[coarse_faces, np.full(len(uv) - len(coarse_uv), -1)]
                     sweeps = max(relax // 4, 1)
                 uv, Vo = relax_on_surface(
-                    dm.uv, F, V, uv, Fo, iterations=sweeps, pinned=pinned, boundary_scale=scale, faces=faces_hint
+                    dm.uv, F, V, uv, Fo, iterations=sweeps, pinned=pinned, boundary_scale=scale, faces=faces_hint,
+                    density=density,
                 )
                 done("relax")
             return uv, Fo, hierarchy, Vo, mu, run

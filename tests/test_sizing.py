@@ -1,0 +1,101 @@
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from qcremesh.adaptive.basemesh import delaunay_disk_mesh, hexagonal_disk_points
+from qcremesh.adaptive.landmarks import boundary_angles, boundary_landmarks, interpolate_on_boundary, smoothed_arc_length
+from qcremesh.adaptive.sizing import check_sizing, curvature_sizing
+from qcremesh.geometry.quality import radius_ratio
+from qcremesh.mesh.topology import boundary_loops, euler_characteristic
+from qcremesh.remeshing.pipeline import remesh
+
+
+def flat_disk(spacing):
+    """The unit disk at z = 0, triangulated at about ``spacing``."""
+    k = int(round(2 * np.pi / spacing))
+    uv, F = delaunay_disk_mesh(2 * np.pi * np.arange(k) / k, hexagonal_disk_points(spacing))
+    return np.column_stack([uv, np.zeros(len(uv))]), F
+
+
+def edge_lengths_by_side(V, F):
+    """Mean edge length of the mesh left of x = -0.4 and right of x = 0.4."""
+    E = np.unique(np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), 1), axis=0)
+    mid = (V[E[:, 0]] + V[E[:, 1]]) / 2
+    length = np.linalg.norm(V[E[:, 0]] - V[E[:, 1]], axis=1)
+    return length[mid[:, 0] < -0.4].mean(), length[mid[:, 0] > 0.4].mean()
+
+
+def test_check_sizing_scales_and_refuses_bad_fields():
+    np.testing.assert_allclose(check_sizing([1.0, 2.0, 4.0], 3), [0.25, 0.5, 1.0])
+    with pytest.raises(ValueError, match=r"^sizing must have one value per input vertex, shape \(3,\); got shape \(2,\)$"):
+        check_sizing([1.0, 2.0], 3)
+    for bad in ([1.0, 0.0, 1.0], [1.0, -1.0, 1.0], [1.0, np.nan, 1.0], [1.0, np.inf, 1.0]):
+        with pytest.raises(ValueError, match="^sizing must be finite and positive at every vertex$"):
+            check_sizing(bad, 3)
+
+
+def test_curvature_sizing_is_one_on_a_plane_and_shorter_on_a_bump():
+    V, F = flat_disk(0.03)
+    np.testing.assert_array_equal(curvature_sizing(V, F, 0.1), 1.0)
+    # a sharp bump (radius 0.1, height 0.04) at (0.4, 0) and a gentle one (0.3, 0.02)
+    # at (-0.3, 0): the surface bends at the scale of an edge on the first
+    r1 = np.linalg.norm(V[:, :2] - [0.4, 0.0], axis=1)
+    r2 = np.linalg.norm(V[:, :2] - [-0.3, 0.0], axis=1)
+    V[:, 2] = 0.04 * np.maximum(0.0, 1 - (r1 / 0.1) ** 2) ** 2 + 0.02 * np.maximum(0.0, 1 - (r2 / 0.3) ** 2) ** 2
+    h = 0.1
+    s = curvature_sizing(V, F, h, min_ratio=0.5, gradation=0.2)
+    assert s[np.argmin(r1)] == 0.5 and s[np.argmin(r2)] == 1.0
+    # the plane beyond the bumps and the reach of the gradation (2.5 h from 0.5 to 1)
+    assert np.all(s[(r1 > 0.1 + h + 2.5 * h) & (r2 > 0.3 + h + 2.5 * h)] == 1.0)
+    # the gradation bound holds between every vertex and its 16 nearest within 2 h
+    d, near = cKDTree(V).query(V, k=17, distance_upper_bound=2 * h)
+    found = np.isfinite(d)
+    rows = np.nonzero(found)[0]
+    assert np.all(s[rows] <= s[near[found]] + 0.2 * d[found] / h + 1e-12)
+    # and so, up to the detours of chains of neighbours, between any two within 2 h
+    pairs = cKDTree(V).query_pairs(2 * h, output_type="ndarray")
+    d = np.linalg.norm(V[pairs[:, 0]] - V[pairs[:, 1]], axis=1)
+    assert np.all(np.abs(s[pairs[:, 0]] - s[pairs[:, 1]]) <= 1.1 * 0.2 * d / h)
+    with pytest.raises(ValueError, match=r"^min_ratio must be in \(0, 1\]$"):
+        curvature_sizing(V, F, h, min_ratio=0)
+
+
+def test_arc_length_and_boundary_landmarks_in_the_metric_of_a_density():
+    t = np.linspace(0, 2 * np.pi, 80, endpoint=False)
+    P = np.column_stack([np.cos(t), np.sin(t), np.zeros(80)])
+    plain = smoothed_arc_length(P, 0.1)
+    np.testing.assert_allclose(smoothed_arc_length(P, 0.1, np.full(80, 3.0)), 3 * plain, rtol=1e-12)
+    # twice the landmarks per unit length on the half x < 0
+    density = np.where(P[:, 0] < 0, 2.0, 1.0)
+    theta, _ = boundary_landmarks(P, P[:, :2], np.arange(80), 30, density=density)
+    X = interpolate_on_boundary(boundary_angles(P[:, :2], np.arange(80)), P, theta)
+    gaps = np.linalg.norm(np.roll(X, -1, 0) - X, axis=1)
+    mid = (np.roll(X, -1, 0) + X) / 2
+    ratio = gaps[mid[:, 0] < -0.3].mean() / gaps[mid[:, 0] > 0.3].mean()
+    assert 0.45 < ratio < 0.55
+
+
+def test_remesh_follows_a_sizing_field():
+    V, F = flat_disk(0.03)
+    # half-length edges on x < -0.2, graded over |x| < 0.2
+    s = np.clip(0.5 + 0.5 * (V[:, 0] + 0.2) / 0.4, 0.5, 1.0)
+    r = remesh(V, F, 2000, sizing=s)
+    assert abs(len(r.F) - 2000) <= 100
+    assert euler_characteristic(r.F) == 1 and len(boundary_loops(r.F)) == 1
+    left, right = edge_lengths_by_side(r.V, r.F)
+    assert 0.42 < left / right < 0.58
+    q = radius_ratio(r.V, r.F)
+    assert q.mean() > 0.93 and q.min() > 0.5
+    assert r.stats["sizing_min_ratio"] == 0.5
+    plain = edge_lengths_by_side(*(lambda r: (r.V, r.F))(remesh(V, F, 2000)))
+    assert 0.9 < plain[0] / plain[1] < 1.1
+
+
+def test_remesh_refuses_bad_sizing():
+    V, F = flat_disk(0.2)
+    with pytest.raises(ValueError, match=r"^sizing must have one value per input vertex"):
+        remesh(V, F, 100, sizing=np.ones(3))
+    with pytest.raises(ValueError, match=r"^unknown sizing 'flat'; give one value per input vertex or 'curvature'$"):
+        remesh(V, F, 100, sizing="flat")
+    with pytest.raises(ValueError, match=r"^the 'uniform' method takes no sizing$"):
+        remesh(V, F, 100, sizing="curvature", method="uniform")
