@@ -390,6 +390,44 @@ def _seeds_section(results):
     return out + [table, ""]
 
 
+def _sizing_section(results):
+    """The curvature sizing beside qcremesh's default run of the remesh part (same mesh,
+    face count and seed), where there is one."""
+    default = {
+        (r["name"], r["half"]): r["quality"]
+        for r in results.get("remesh", [])
+        if r["tool"] == "qcremesh" and r["status"] == "ok"
+    }
+    out = [
+        "## Sizing\n",
+        "qcremesh with `sizing=\"curvature\"` (edges down to 0.6 of the rest where the surface "
+        "leaves its tangent plane at half an edge the most), one run each, seed 0; after the "
+        "slash, the default (uniform) run of the remesh part.\n",
+    ]
+
+    def beside(r, key, fmt):
+        q, d = r["quality"], default.get((r["name"], r["half"]))
+        return fmt(q[key]) + (f" / {fmt(d[key])}" if d is not None else "")
+
+    def three(x):
+        return f"{x:.3f}"
+
+    header = ["mesh", "faces wanted", "time s", "q mean", "q min", "q>0.9", "Hausdorff %"]
+    table = _variant_table(
+        results["sizing"],
+        header,
+        lambda r: [r["name"], f"{r['faces']:,}"],
+        lambda r, q: [
+            _num(r["time"]["median"]),
+            beside(r, "q_mean", three),
+            beside(r, "q_min", three),
+            beside(r, "q_frac_above_0_9", three),
+            beside(r, "hausdorff", _pct),
+        ],
+    )
+    return out + [table, ""]
+
+
 # Scaling ------------------------------------------------------------------------------
 
 
@@ -603,6 +641,8 @@ def markdown(results):
         out += _ablation_section(results)
     if results.get("seeds"):
         out += _seeds_section(results)
+    if results.get("sizing"):
+        out += _sizing_section(results)
     if results.get("scaling"):
         out += _scaling_section(results)
     targets = _param_targets(results) + (_remesh_targets(results) if results.get("remesh") else [])

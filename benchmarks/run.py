@@ -2,7 +2,7 @@
 
     python benchmarks/run.py [--data DIR] [--out DIR] [--quick] [--parts ...] [--tools ...]
 
-Five parts; each tool runs in a process of its own (worker.py), kept for its jobs:
+Six parts; each tool runs in a process of its own (worker.py), kept for its jobs:
 
 * param: disk parameterizations of every disk mesh (qcremesh's Algorithm 1, Tutte, libigl
   harmonic with arc-length boundary, libigl LSCM), with |mu| of the map disk -> surface,
@@ -16,6 +16,9 @@ Five parts; each tool runs in a process of its own (worker.py), kept for its job
 * seeds: qcremesh on human_face (fran_cut in quick mode) with the CVT seeds 0-3 at half
   its face count: how much min q and the Hausdorff distance depend on the draw of
   landmarks.
+* sizing: qcremesh with ``sizing="curvature"`` at both face counts on the meshes of the
+  Hausdorff targets and human_brain (the quick meshes in quick mode), beside its default
+  runs of the remesh part.
 * scaling: qcremesh's parameterization and remesh on one mesh subdivided 0, 1 and 2 times.
 
 Writes results.md, results.json and PNG plots to --out; prints the tables.
@@ -53,6 +56,7 @@ ABLATION_METHODS = ["uniform", "base", "subdivided", "teichmuller"]
 ABLATION_RELAX = [0, 40]
 SEED_MESHES = ["human_face.obj"]
 SEEDS = [0, 1, 2, 3]
+SIZING_MESHES = ["foot.off", "hand.ply", "head_neck_cut.obj", "human_face.obj", "human_brain.ply"]
 
 
 def parse_args(argv):
@@ -72,8 +76,8 @@ def parse_args(argv):
     )
     p.add_argument(
         "--parts",
-        default="param,remesh,ablation,seeds,scaling",
-        help="comma-separated subset of param,remesh,ablation,seeds,scaling",
+        default="param,remesh,ablation,seeds,sizing,scaling",
+        help="comma-separated subset of param,remesh,ablation,seeds,sizing,scaling",
     )
     p.add_argument("--tools", help="comma-separated subset of the tools (default: all)")
     p.add_argument(
@@ -331,6 +335,13 @@ def seed_rows(meshes, args):
     return variant_rows(meshes, names, True, variants, args)
 
 
+def sizing_rows(meshes, args):
+    """qcremesh with the curvature sizing at the input's face count and at half of it."""
+    names = QUICK_MESHES if args.quick else SIZING_MESHES
+    variant = {"method": "teichmuller", "relax": 40, "sizing": "curvature"}
+    return [row for half in (False, True) for row in variant_rows(meshes, names, half, [variant], args)]
+
+
 def scaling_rows(path, args):
     """qcremesh on the mesh subdivided 0, 1, 2 times; the remesh at the subdivided face
     count, not measured (the remesh part does that). A tool skipped at level 0 is not
@@ -376,6 +387,8 @@ def main(argv=None):
         results["ablation"] = ablation_rows(meshes, args)
     if "seeds" in args.parts:
         results["seeds"] = seed_rows(meshes, args)
+    if "sizing" in args.parts:
+        results["sizing"] = sizing_rows(meshes, args)
     if "scaling" in args.parts and (args.data / scaling_name).is_file():
         results["scaling"] = scaling_rows(args.data / scaling_name, args)
         results["scaling_fit"] = report.fit_exponents(results["scaling"])

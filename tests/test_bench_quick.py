@@ -74,3 +74,16 @@ def test_calibration_starts_from_previous_run(tmp_path):
     ]
     (tmp_path / "results.json").write_text(json.dumps({"remesh": rows}))
     assert run.previous_lengths(tmp_path) == {("pymeshlab", "foot.off", 19974, 9987): 1.25}
+
+
+def test_quick_sizing_benchmark(tmp_path):
+    """The sizing part: qcremesh with the curvature sizing on fran_cut at both face
+    counts, beside the default run of the remesh part."""
+    results = run_quick(tmp_path, "remesh,sizing", "qcremesh")[0]
+    rows = results["sizing"]
+    assert [(r["half"], r["variant"]["sizing"]) for r in rows] == [(False, "curvature"), (True, "curvature")]
+    assert all(r["status"] == "ok" and r["quality"]["q_min"] >= 0.3 for r in rows)
+    markdown = (tmp_path / "results.md").read_text()
+    row = next(line for line in markdown.splitlines() if line.startswith("| fran_cut.ply | 4,224 |") and " / " in line)
+    default = next(r["quality"] for r in results["remesh"] if not r["half"])
+    assert row.endswith(f" / {100 * default['hausdorff']:.2f} |")
