@@ -5,9 +5,10 @@
     ``v``, their disk coordinates as ``vt`` with the same index, and the input faces as
     ``f a/a b/b c/c``.
 
-``qcremesh remesh INPUT -o OUTPUT [--faces N] [--levels L] [--method M] [--seed S] [--relax K] [--report DIR]``
+``qcremesh remesh INPUT -o OUTPUT [--faces N] [--levels L] [--method M] [--seed S] [--relax K] [--sizing S] [--report DIR]``
     Quasi-conformal remeshing (Algorithm 2 and projection); the output format follows
-    the extension.
+    the extension. ``--sizing curvature`` grades the edges by the surface's bending,
+    ``--sizing NAME`` by a per-vertex array of the input (relative edge lengths).
 
 ``qcremesh quality MESH [--reference ORIGINAL] [--json]``
     Triangle quality, and distances to a reference surface.
@@ -261,8 +262,8 @@ def _remesh(args, out):
     if "cvt_uniformity" in st:
         drawn = f", drawn {st['draws']} times (the first draws left faces below 0.3)" if st.get("draws", 1) > 1 else ""
         print(
-            f"landmarks: {st['base_vertices']}, surface-area uniformity (std/mean of cells) {st['cvt_uniformity']:.3f}"
-            f"{drawn}",
+            f"landmarks: {st['base_vertices']}, surface-area uniformity (std/mean of cells"
+            f"{', area weighted by sizing^-2' if 'sizing_min_ratio' in st else ''}) {st['cvt_uniformity']:.3f}{drawn}",
             file=out,
         )
     if args.report:
