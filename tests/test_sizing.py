@@ -6,7 +6,7 @@ from qcremesh.adaptive.basemesh import delaunay_disk_mesh, hexagonal_disk_points
 from qcremesh.adaptive.landmarks import boundary_angles, boundary_landmarks, interpolate_on_boundary, smoothed_arc_length
 from qcremesh.adaptive.sizing import check_sizing, curvature_sizing
 from qcremesh.geometry.quality import radius_ratio
-from qcremesh.mesh.topology import boundary_loops, euler_characteristic
+from qcremesh.mesh.topology import boundary_loop, boundary_loops, euler_characteristic
 from qcremesh.remeshing.pipeline import remesh
 
 
@@ -84,6 +84,12 @@ def test_remesh_follows_a_sizing_field():
     assert euler_characteristic(r.F) == 1 and len(boundary_loops(r.F)) == 1
     left, right = edge_lengths_by_side(r.V, r.F)
     assert 0.42 < left / right < 0.58
+    # the boundary edges, which the relaxation spaces in the sizing's metric, more closely
+    loop = boundary_loop(r.F)
+    P = r.V[loop]
+    length = np.linalg.norm(np.roll(P, -1, 0) - P, axis=1)
+    mid = (np.roll(P, -1, 0) + P) / 2
+    assert 0.45 < length[mid[:, 0] < -0.4].mean() / length[mid[:, 0] > 0.4].mean() < 0.55
     q = radius_ratio(r.V, r.F)
     assert q.mean() > 0.93 and q.min() > 0.5
     assert r.stats["sizing_min_ratio"] == 0.5
