@@ -156,3 +156,29 @@ def split_vertex(V, F, v):
         F[f][F[f] == v] = w
     needles = [[v, ring[s], w], [w, ring[0], v]]
     return np.concatenate([V, V[v : v + 1]]), np.concatenate([F, needles])
+
+
+def sphere_mesh(n=1500, seed=0):
+    """The convex hull of n random points of the unit sphere: a closed surface of genus
+    0 with irregular triangles, faces turned outwards."""
+    from scipy.spatial import ConvexHull
+
+    P = np.random.default_rng(seed).standard_normal((n, 3))
+    P /= np.linalg.norm(P, axis=1)[:, None]
+    F = ConvexHull(P).simplices.astype(np.int64)
+    outward = (np.cross(P[F[:, 1]] - P[F[:, 0]], P[F[:, 2]] - P[F[:, 0]]) * P[F].mean(1)).sum(1) > 0
+    F[~outward] = F[~outward][:, ::-1]
+    return P, F
+
+
+def torus_mesh(k=24, seed=0):
+    """A torus (radii 2 and 0.7) of k x k/2 grid cells, two triangles each: closed, genus 1."""
+    a, b = np.meshgrid(2 * np.pi * np.arange(k) / k, 2 * np.pi * np.arange(k // 2) / (k // 2), indexing="ij")
+    a, b = a.ravel(), b.ravel()
+    V = np.column_stack([(2 + 0.7 * np.cos(b)) * np.cos(a), (2 + 0.7 * np.cos(b)) * np.sin(a), 0.7 * np.sin(b)])
+    i, j = np.meshgrid(np.arange(k), np.arange(k // 2), indexing="ij")
+    idx = lambda i, j: (i % k) * (k // 2) + j % (k // 2)  # noqa: E731
+    q = [idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)]
+    F = np.concatenate([np.column_stack([q[0].ravel(), q[1].ravel(), q[2].ravel()]),
+                        np.column_stack([q[0].ravel(), q[2].ravel(), q[3].ravel()])])
+    return V, F

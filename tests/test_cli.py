@@ -4,7 +4,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import DATA, grid_disk, shared, split_vertex, star_disk, strip_disk, tube_disk
+from conftest import DATA, grid_disk, shared, sphere_mesh, split_vertex, star_disk, strip_disk, torus_mesh, tube_disk
 from qcremesh.cli.main import main
 from qcremesh.mesh.io import read_mesh, write_mesh
 from qcremesh.mesh.subdivide import upsample
@@ -279,3 +279,17 @@ def test_remesh_cli_sizing_from_a_vertex_array(tmp_path, capsys):
         "qcremesh: error: --sizing does not go with --method uniform (a regular mesh of the disk)"
     )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r.ply", "sized.vtk"]
+
+
+def test_remesh_cli_closes_a_closed_surface_and_refuses_a_torus(tmp_path, capsys):
+    path = tmp_path / "sphere.ply"
+    write_mesh(path, *sphere_mesh(1500))
+    assert main(["remesh", str(path), "-o", str(tmp_path / "r.obj"), "--faces", "2000"]) == 0
+    assert "boundary loops 0, Euler characteristic 2, manifold yes" in capsys.readouterr().out
+    write_mesh(tmp_path / "torus.ply", *torus_mesh())
+    assert main(["remesh", str(tmp_path / "torus.ply"), "-o", str(tmp_path / "t.obj")]) == 1
+    assert capsys.readouterr().err.strip() == (
+        f"qcremesh: error: {tmp_path / 'torus.ply'}: closed surface of genus 1 (Euler characteristic 0); "
+        "remesh takes disks and closed surfaces of genus 0"
+    )
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.obj", "sphere.ply", "torus.ply"]

@@ -154,8 +154,10 @@ def smoothed_arc_length(P, width, density=None):
     a hundredth of the raw arc length, which keeps it strictly increasing, interpolated
     linearly in t at the vertices.
 
-    With a ``density`` g at the vertices, sigma counts each edge times the mean of g at
-    its ends (the arc length in the metric of a sizing field 1 / g).
+    With ``width`` 0, sigma is the arc length itself (the same, up to rounding, along the
+    polyline in either direction). With a ``density`` g at the vertices, sigma counts each
+    edge times the mean of g at its ends (the arc length in the metric of a sizing field
+    1 / g).
 
     Parameters
     ----------
@@ -172,6 +174,8 @@ def smoothed_arc_length(P, width, density=None):
     P = np.asarray(P, dtype=np.float64)
     s = _arc_length(P)
     perimeter = s[-1]
+    if width <= 0:
+        return _weighted(s, density)
     m = max(8 * len(P), int(np.ceil(8 * perimeter / max(width, 1e-300))))
     m = min(m, 64 * len(P))
     t = perimeter * np.arange(m) / m
@@ -182,7 +186,12 @@ def smoothed_arc_length(P, width, density=None):
     smooth = (csum[2 * half + 1 :] - csum[: -2 * half - 1]) / (2 * half + 1)
     step = np.linalg.norm(np.roll(smooth, -1, axis=0) - smooth, axis=1)
     sigma = np.r_[0.0, np.cumsum(step)] + 0.01 * np.r_[t, perimeter]
-    sigma = np.interp(s, np.r_[t, perimeter], sigma)
+    return _weighted(np.interp(s, np.r_[t, perimeter], sigma), density)
+
+
+def _weighted(sigma, density):
+    """Arc lengths ``sigma`` (b + 1,) of a closed polyline with each edge counted times the
+    mean of ``density`` (b,) at its ends (None: as they are)."""
     if density is None:
         return sigma
     g = np.asarray(density, dtype=np.float64)

@@ -6,8 +6,9 @@
     ``f a/a b/b c/c``.
 
 ``qcremesh remesh INPUT -o OUTPUT [--faces N] [--levels L] [--method M] [--seed S] [--relax K] [--sizing S] [--report DIR]``
-    Quasi-conformal remeshing (Algorithm 2 and projection); the output format follows
-    the extension. ``--sizing curvature`` grades the edges by the surface's bending,
+    Quasi-conformal remeshing (Algorithm 2 and projection) of a disk, or of a closed
+    surface of genus 0 (cut open, remeshed and welded); the output format follows the
+    extension. ``--sizing curvature`` grades the edges by the surface's bending,
     ``--sizing NAME`` by a per-vertex array of the input (relative edge lengths).
 
 ``qcremesh quality MESH [--reference ORIGINAL] [--json]``
@@ -98,7 +99,7 @@ def _parser():
 
     r = sub.add_parser(
         "remesh",
-        help="remesh a disk-topology mesh into a regular one",
+        help="remesh a disk or a closed surface of genus 0 into a regular mesh",
         description="Quasi-conformal remeshing (Algorithm 2) with projection onto the input surface.",
     )
     r.add_argument("input", help="triangle mesh (OBJ, PLY, OFF, STL, VTK, .mat, ...)")

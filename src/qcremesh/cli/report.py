@@ -174,12 +174,12 @@ def write_remesh_report(folder, name, original, result, quality, times):
     sub_uv, sub_F = result.disk_levels[-1]
     plot_disk_levels(
         folder / "disk_meshes.png",
-        [(base_uv, base_F), (sub_uv, sub_F), (result.uv, result.F)],
+        [(base_uv, base_F), (sub_uv, sub_F), (result.uv, sub_F)],
         ["base mesh", "subdivided", "adaptive (final)"],
     )
     figures = [("radius_ratio.png", "Radius ratio before and after"), ("disk_meshes.png", "Meshes of the disk")]
     if result.mu is not None:
-        plot_disk_map(folder / "teichmuller_mu.png", result.uv, result.F, result.mu, title="Teichmueller map")
+        plot_disk_map(folder / "teichmuller_mu.png", result.uv, sub_F, result.mu, title="Teichmueller map")
         figures.append(("teichmuller_mu.png", "|mu| of the Teichmueller map"))
     summary = {"input": str(name), "quality": quality, "stats": result.stats, "times": times}
     _write_text(folder / "summary.json", json.dumps(summary, indent=2, default=float))

@@ -58,10 +58,13 @@ from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import doublearea, vertex_areas
 from ..geometry.quality import corner_radius_ratio_bound, radius_ratio, triangle_angles
 from ..geometry.repair import repair_degenerate_faces
+from ..mesh.cut import cut_along_path, shortest_edge_path, weld_slit
 from ..mesh.subdivide import upsample
 from ..mesh.topology import (
     boundary_edges,
     boundary_loop,
+    connected_components,
+    euler_characteristic,
     inconsistent_edges,
     needles_and_caps,
     nonmanifold_edges,
@@ -69,7 +72,7 @@ from ..mesh.topology import (
     orient_faces,
     unreferenced_vertices,
 )
-from ..mesh.validate import DegenerateFaceError, OrientationError
+from ..mesh.validate import DegenerateFaceError, OrientationError, TopologyError
 from ..param.disk import disk_conformal_map
 from .min_quality import QUALITY_FLOOR
 from .relax import relax_on_surface
@@ -123,7 +126,9 @@ class RemeshResult:
     F : (m, 3) int64
         Its triangles, oriented as the input.
     uv : (n, 2) float
-        Disk coordinates of the output vertices (the adaptive disk mesh).
+        Disk coordinates of the output vertices (the adaptive disk mesh, whose faces are
+        ``disk_levels[-1][1]``: for a closed surface, the vertices of the cut surface's
+        remesh, before its two sides were welded).
     levels : list of (V, F)
         The multiresolution hierarchy: level 0 is the base mesh, the last level is
         ``(V, F)``; face f of a level is split into faces 4f..4f+3 of the next.
@@ -225,11 +230,12 @@ def _repair(V, F, data, sizing, stats):
     return (V, F, data, sizing) if repaired else None
 
 
-def _plan(V, F, bnd, faces, levels, density=None):
+def _plan(V, F, bnd, faces, levels, density=None, even=False):
     """Numbers of boundary and interior landmarks for ``faces`` output faces, the spacing
     of the boundary landmarks along the boundary, and the base mesh's face count wanted.
     With a ``density`` (n,), the inverse of a sizing field, areas are counted times
-    density^2 and boundary lengths times density."""
+    density^2 and boundary lengths times density. With ``even``, an even number of
+    boundary landmarks (the two sides of a slit get half each)."""
     base_faces = max(faces / 4**levels, 4.0)
     if density is None:
         area = doublearea(V, F).sum() / 2
@@ -239,9 +245,42 @@ def _plan(V, F, bnd, faces, levels, density=None):
     lengths = np.linalg.norm(V[np.roll(bnd, -1)] - V[bnd], axis=1)
     perimeter = lengths.sum()
     sized = perimeter if density is None else (lengths * (density[bnd] + density[np.roll(bnd, -1)]) / 2).sum()
-    nb = max(int(round(sized / h)), 3)
+    nb = max(2 * int(round(sized / h / 2)), 4) if even else max(int(round(sized / h)), 3)
     ni = max(int(round((base_faces - nb + 2) / 2)), 0)
     return nb, ni, perimeter / nb, base_faces
+
+
+def _remesh_closed(V, F, faces, sizing, data, options):
+    """:func:`remesh` of a closed surface of genus 0: cut open along the shortest edge
+    path between its two vertices farthest apart along its principal axis (a slit, whose
+    ends the boundary turns back at, so they are corners), remeshed as a disk with a
+    fixed boundary, and welded shut along the slit. ``levels`` are welded each; ``uv``,
+    ``disk_levels`` and ``mu`` stay those of the slit disk."""
+    if options["relax"] == 0 or options["method"] == "uniform":
+        raise ValueError("a closed surface needs the relaxation (relax > 0) and a method other than 'uniform'")
+    centred = V - V.mean(0)
+    axis = np.linalg.svd(centred[:: max(1, len(V) // 20000)], full_matrices=False)[2][0]
+    along = centred @ axis
+    path = shortest_edge_path(V, F, int(np.argmin(along)), int(np.argmax(along)))
+    F_cut, parent = cut_along_path(F, path, len(V))
+    cut_data = {k: np.asarray(v)[parent] for k, v in data.items()} if data else data
+    cut_sizing = sizing if sizing is None or isinstance(sizing, str) else np.asarray(sizing)[parent]
+    result = remesh(V[parent], F_cut, faces, sizing=cut_sizing, fixed_boundary=True, data=cut_data, **options)
+    # The slit's ends are corners of the disk, so output vertices where they are.
+    def weld(X, Fo):
+        loop = boundary_loop(Fo)
+        tol = 1e-9 * np.linalg.norm(X[np.roll(loop, -1)] - X[loop], axis=1).mean()
+        gap = np.linalg.norm(X[loop][:, None] - V[path[[0, -1]]][None], axis=2)
+        ends = gap.argmin(0)
+        if gap[ends, [0, 1]].max() > tol:
+            raise ValueError("the remesh of the cut surface has no vertex at an end of the cut")
+        return weld_slit(X, Fo, loop, ends, tol)
+
+    Vo, Fo, kept = weld(result.V, result.F)
+    levels = [weld(X, f)[:2] for X, f in result.levels]
+    out_data = {k: np.asarray(v)[kept] for k, v in result.data.items()}
+    stats = dict(result.stats, closed_cut_vertices=len(path))
+    return RemeshResult(Vo, Fo, result.uv, levels, out_data, result.disk_levels, result.mu, stats, result.times)
 
 
 def remesh(
@@ -258,10 +297,17 @@ def remesh(
     teichmuller_iterations=5,
     retries=2,
     sizing=None,
+    fixed_boundary=False,
     data=None,
     progress=None,
 ):
-    """Remesh a disk-topology triangle mesh into a regular, semi-regular one.
+    """Remesh a disk-topology triangle mesh, or a closed one of genus 0, into a regular,
+    semi-regular one.
+
+    A closed surface of genus 0 is cut open into a disk along the shortest path of its
+    edges between its two vertices farthest apart along its principal axis, remeshed
+    with ``fixed_boundary`` (so that the two sides of the cut get the same vertices) and
+    closed again (:func:`_remesh_closed`).
 
     Where the validation refuses the input for faces turned against their neighbours, or
     for needles and caps (faces of zero area or within rounding of it), these are mended
@@ -329,6 +375,12 @@ def remesh(
         ones, and the relaxation's boundary vertices, the boundary length weighted by
         sizing^-1; the interior keeps the grading of the landmarks' connectivity. Not
         with ``"uniform"``.
+    fixed_boundary : bool
+        Space the output's boundary vertices evenly by arc length between the boundary
+        corners (all around where there is none) and keep them there through the
+        relaxation (see :func:`qcremesh.remeshing.relax.relax_on_surface`): two surfaces
+        that share a border, with its ends as corners, get the same vertices on it.
+        Needs ``relax``.
     data : dict of str to (n,) or (n, d) array, optional
         Per-vertex attributes (normals, colours, scalars, UVs) to carry to the output.
     progress : callable, optional
@@ -358,6 +410,20 @@ def remesh(
         sizing = check_sizing(sizing, len(V))
     if (curvature or sizing is not None) and method == "uniform":
         raise ValueError("the 'uniform' method takes no sizing")
+    if fixed_boundary and (relax == 0 or method == "uniform"):
+        raise ValueError("a fixed boundary needs the relaxation (relax > 0) and a method other than 'uniform'")
+    if len(F) and not len(boundary_edges(F)) and connected_components(F, len(V))[0] == 1:
+        chi = euler_characteristic(F)
+        if chi != 2:
+            raise TopologyError(
+                f"closed surface of genus {(2 - chi) // 2} (Euler characteristic {chi}); "
+                "remesh takes disks and closed surfaces of genus 0"
+            )
+        options = dict(
+            levels=levels, method=method, seed=seed, corner_angle=corner_angle, cvt_iterations=cvt_iterations,
+            relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries, progress=progress,
+        )
+        return _remesh_closed(V, F, faces, "curvature" if curvature else sizing, data, options)
     if method == "base":
         levels = 0
     while levels > 0 and faces / 4**levels < MIN_BASE_FACES:
@@ -405,7 +471,7 @@ def remesh(
     # Where the CVT's cells come out far from equal on the surface (above MAX_CELL_SPREAD),
     # fewer levels (more landmarks) are planned and the landmarks drawn again.
     while True:
-        nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels, density)
+        nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels, density, fixed_boundary)
         # A base mesh with fewer interior landmarks than boundary ones is mostly chords
         # between boundary landmarks, which neither subdivision nor relaxation turns into a
         # regular mesh (camel_b.obj, cut open along slits into a disk whose boundary is 28
@@ -413,7 +479,7 @@ def remesh(
         # face count, mean radius ratio 0.51); with fewer levels the base mesh gets an interior.
         while levels > 0 and ni < nb:
             levels -= 1
-            nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels, density)
+            nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels, density, fixed_boundary)
         stats["levels"] = levels
 
         # What the landmarks of every draw share: the boundary landmarks, and the samples of
@@ -572,7 +638,7 @@ def remesh(
                     coarse_uv, _, coarse_faces = relax_on_surface(
                         dm.uv, F, V, coarse_uv, coarse_F, iterations=relax, pinned=pinned[: len(coarse_uv)],
                         boundary_scale=2 * scale, min_quality=0, regular_rounds=0, density=density,
-                        return_faces=True,
+                        fixed_boundary=fixed_boundary, return_faces=True,
                     )
                     uv = subdivide_disk_mesh(coarse_uv, coarse_F, 1)[-1][0]
                     # The coarse vertices keep their input faces; the new ones are found
@@ -581,7 +647,7 @@ def remesh(
                     sweeps = max(relax // 4, 1)
                 uv, Vo = relax_on_surface(
                     dm.uv, F, V, uv, Fo, iterations=sweeps, pinned=pinned, boundary_scale=scale, faces=faces_hint,
-                    density=density,
+                    density=density, fixed_boundary=fixed_boundary,
                 )
                 done("relax")
             return uv, Fo, hierarchy, Vo, mu, run

@@ -134,6 +134,20 @@ def _locate(disk_uv, F, vertex_faces, A, uv, inner, hint):
     return face, bary
 
 
+def _evenly_between(s, fixed, perimeter):
+    """Arc lengths ``s`` (b,) along a closed loop (increasing, period ``perimeter``) made
+    evenly spaced between the ``fixed`` ones (b,) bool (around the whole loop from the
+    first where none is), in loop order."""
+    b = len(s)
+    anchor = np.flatnonzero(fixed) if fixed.any() else np.array([0])
+    # each position's anchor before it and the next one, with the loop closed
+    knots = np.r_[anchor, anchor[0] + b]
+    values = np.r_[s[anchor], s[anchor[0]] + perimeter]
+    t = np.arange(b)
+    before = t < anchor[0]
+    return np.interp(np.where(before, t + b, t), knots, values) - before * perimeter
+
+
 def _undo_folds(new_X, new_uv, new_face, X, uv, face, Fo):
     """Keep the disk mesh an embedding: put back, in place, the old positions of the
     vertices around faces that the moves fold, until none is folded; which were put back,
@@ -167,6 +181,7 @@ def relax_on_surface(
     regular_rounds=20,
     faces=None,
     density=None,
+    fixed_boundary=False,
     return_faces=False,
 ):
     """Move the vertices of a mesh of the disk so that its image on the surface gets more
@@ -244,6 +259,11 @@ def relax_on_surface(
         as long on one side: 0.55 of the other's, radius ratio 0.981), while the mean
         weighted by the density, which grades by moving the vertices only along its
         gradient, overshoots (0.49) with skewed faces (0.947).
+    fixed_boundary : bool
+        Space the boundary vertices evenly by arc length (unsmoothed, in the metric of
+        ``density``) between the pinned ones (all around the loop where none is) and keep them there:
+        two meshes of surfaces that share a border, with the same pinned vertices and
+        counts on it, get the same vertices there.
     return_faces : bool
         Also return the input face under each vertex.
 
@@ -262,7 +282,9 @@ def relax_on_surface(
     if boundary_scale is None:
         loop = boundary_loop(F)
         boundary_scale = np.linalg.norm(V[np.roll(loop, -1)] - V[loop], axis=1).sum() / len(bnd)
-    curve = BoundaryCurve(disk_uv, F, V, boundary_scale, density)
+    # A fixed boundary is spaced by the arc length itself, which is the same both ways
+    # along the polyline (the two sides of a slit get the same points).
+    curve = BoundaryCurve(disk_uv, F, V, 0.0 if fixed_boundary else boundary_scale, density)
     perimeter = curve.perimeter
     pinned = np.zeros(k, dtype=bool) if pinned is None else np.array(pinned, dtype=bool)
     on_circle = np.zeros(k, dtype=bool)
@@ -283,6 +305,10 @@ def relax_on_surface(
     X[bnd] = interpolate_on_boundary(curve.theta, curve.points, theta)
     s = curve.arc_length(theta)
     s = s[0] + np.mod(s - s[0], perimeter)  # increasing along the output loop
+    if fixed_boundary:
+        s = _evenly_between(s, pinned[bnd], perimeter)
+        uv[bnd], X[bnd] = curve.at(s)
+        pinned = pinned | on_circle
     moved = np.flatnonzero(free)
     ring = A[moved]
     for _ in range(iterations):
