@@ -42,6 +42,7 @@ from pathlib import Path
 
 import qcremesh
 import report
+from qcremesh.mesh import topology
 from worker import RESULT_MARK
 
 HERE = Path(__file__).resolve().parent
@@ -104,6 +105,19 @@ def read_quietly(path):
         return qcremesh.read_mesh(path)
 
 
+def closed_genus_0(F, n):
+    """Whether the faces F (of n vertices) are one closed surface of genus 0, which
+    qcremesh.remesh takes besides disks."""
+    return (
+        len(F) > 0
+        and len(topology.boundary_edges(F)) == 0
+        and topology.connected_components(F, n)[0] == 1
+        and topology.euler_characteristic(F) == 2
+        and len(topology.nonmanifold_edges(F)) == 0
+        and len(topology.nonmanifold_vertices(F)) == 0
+    )
+
+
 def inventory(folder, names):
     """Readable meshes of the folder, each once (a file with the same vertices and faces as
     an earlier one is skipped), and whether each is a disk. Returns (meshes, skipped)."""
@@ -140,6 +154,7 @@ def inventory(folder, names):
                 "vertices": len(V),
                 "faces": len(F),
                 "not_disk": not_disk,
+                "closed_genus_0": not_disk is not None and closed_genus_0(F, len(V)),
             }
         )
     meshes.sort(key=lambda m: m["faces"])
@@ -290,7 +305,8 @@ def previous_lengths(out):
 
 def remesh_rows(meshes, args):
     """Every remesher on every mesh at its face count and at half; qcremesh remeshes disks
-    only, so the other meshes get a skipped row with the reason instead of a job."""
+    and closed surfaces of genus 0 only, so the other meshes get a skipped row with the
+    reason instead of a job."""
     rows = []
     lengths = previous_lengths(args.out)
     for m in meshes:
@@ -300,8 +316,9 @@ def remesh_rows(meshes, args):
                 start = lengths.get((tool, m["mesh"], m["faces"], job["faces"]))
                 if start is not None:
                     job["start"] = start
-                if tool == "qcremesh" and m["not_disk"] is not None:
-                    rows.append(dict(job, status="skipped", reason=f"not a disk: {m['not_disk']}"))
+                if tool == "qcremesh" and m["not_disk"] is not None and not m["closed_genus_0"]:
+                    reason = f"neither a disk nor closed of genus 0: {m['not_disk']}"
+                    rows.append(dict(job, status="skipped", reason=reason))
                 else:
                     rows.append(run_job(job, args))
     return rows
