@@ -261,8 +261,11 @@ def _remesh_closed(V, F, faces, sizing, data, options):
     centred = V - V.mean(0)
     axis = np.linalg.svd(centred[:: max(1, len(V) // 20000)], full_matrices=False)[2][0]
     along = centred @ axis
-    path = shortest_edge_path(V, F, int(np.argmin(along)), int(np.argmax(along)))
-    F_cut, parent = cut_along_path(F, path, len(V))
+    try:
+        path = shortest_edge_path(V, F, int(np.argmin(along)), int(np.argmax(along)))
+        F_cut, parent = cut_along_path(F, path, len(V))
+    except ValueError as error:
+        raise TopologyError(f"cannot cut the closed surface open into a disk: {error}") from error
     cut_data = {k: np.asarray(v)[parent] for k, v in data.items()} if data else data
     cut_sizing = sizing if sizing is None or isinstance(sizing, str) else np.asarray(sizing)[parent]
     result = remesh(V[parent], F_cut, faces, sizing=cut_sizing, fixed_boundary=True, data=cut_data, **options)
@@ -376,11 +379,12 @@ def remesh(
         sizing^-1; the interior keeps the grading of the landmarks' connectivity. Not
         with ``"uniform"``.
     fixed_boundary : bool
-        Space the output's boundary vertices evenly by arc length between the boundary
-        corners (all around where there is none) and keep them there through the
-        relaxation (see :func:`qcremesh.remeshing.relax.relax_on_surface`): two surfaces
-        that share a border, with its ends as corners, get the same vertices on it.
-        Needs ``relax``.
+        An even number of boundary landmarks, and the output's boundary vertices spaced
+        evenly by arc length between the boundary corners (all around where there is
+        none) and kept there through the relaxation (see
+        :func:`qcremesh.remeshing.relax.relax_on_surface`): parts of the border that
+        are the same polyline between corners and get as many vertices get the same
+        vertices (the two sides of a closed surface's cut). Needs ``relax``.
     data : dict of str to (n,) or (n, d) array, optional
         Per-vertex attributes (normals, colours, scalars, UVs) to carry to the output.
     progress : callable, optional
@@ -412,7 +416,8 @@ def remesh(
         raise ValueError("the 'uniform' method takes no sizing")
     if fixed_boundary and (relax == 0 or method == "uniform"):
         raise ValueError("a fixed boundary needs the relaxation (relax > 0) and a method other than 'uniform'")
-    if len(F) and not len(boundary_edges(F)) and connected_components(F, len(V))[0] == 1:
+    closed = len(F) and not len(boundary_edges(F)) and connected_components(F, len(V))[0] == 1
+    if closed and not len(nonmanifold_edges(F)) and not len(nonmanifold_vertices(F)):
         chi = euler_characteristic(F)
         if chi != 2:
             raise TopologyError(
