@@ -88,3 +88,14 @@ def test_remesh_closes_a_closed_surface_of_genus_0():
     with pytest.raises(ValueError, match=r"^a closed surface needs the relaxation \(relax > 0\) and a method other "
                        r"than 'uniform'$"):
         remesh(V, F, 2000, relax=0)
+
+
+def test_remesh_orients_a_closed_surface_before_cutting_it():
+    V, F = sphere_mesh(800)
+    F = F.copy()
+    F[:10] = F[:10, ::-1]  # ten faces turned against the others
+    r = remesh(V, F, 1000)
+    assert r.stats["reoriented_faces"] == 10
+    assert not len(boundary_edges(r.F)) and euler_characteristic(r.F) == 2
+    volume = np.einsum("ij,ij->i", r.V[r.F[:, 0]], np.cross(r.V[r.F[:, 1]], r.V[r.F[:, 2]])).sum() / 6
+    assert volume > 3.5  # outwards, as the majority

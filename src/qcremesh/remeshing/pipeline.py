@@ -258,6 +258,14 @@ def _remesh_closed(V, F, faces, sizing, data, options):
     ``disk_levels`` and ``mu`` stay those of the slit disk."""
     if options["relax"] == 0 or options["method"] == "uniform":
         raise ValueError("a closed surface needs the relaxation (relax > 0) and a method other than 'uniform'")
+    turned = 0
+    if len(inconsistent_edges(F)):
+        # (the cut needs the faces' orientations to tell the two sides of the path)
+        try:
+            F, reversed_faces = orient_faces(F)
+        except ValueError as error:
+            raise OrientationError(f"closed surface: {error}") from error
+        turned = int(reversed_faces.sum())
     centred = V - V.mean(0)
     axis = np.linalg.svd(centred[:: max(1, len(V) // 20000)], full_matrices=False)[2][0]
     along = centred @ axis
@@ -283,6 +291,8 @@ def _remesh_closed(V, F, faces, sizing, data, options):
     levels = [weld(X, f)[:2] for X, f in result.levels]
     out_data = {k: np.asarray(v)[kept] for k, v in result.data.items()}
     stats = dict(result.stats, closed_cut_vertices=len(path))
+    if turned:
+        stats["reoriented_faces"] = turned
     return RemeshResult(Vo, Fo, result.uv, levels, out_data, result.disk_levels, result.mu, stats, result.times)
 
 
