@@ -261,9 +261,9 @@ def relax_on_surface(
         gradient, overshoots (0.49) with skewed faces (0.947).
     fixed_boundary : bool
         Space the boundary vertices evenly by arc length (unsmoothed, in the metric of
-        ``density``) between the pinned ones (all around the loop where none is) and keep them there:
-        two meshes of surfaces that share a border, with the same pinned vertices and
-        counts on it, get the same vertices there.
+        ``density``) between the pinned ones (all around the loop where none is) and
+        keep them there: parts of the border that are the same polyline between pinned
+        vertices and get as many vertices get the same vertices (the two sides of a cut).
     return_faces : bool
         Also return the input face under each vertex.
 
