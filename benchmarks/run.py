@@ -105,19 +105,6 @@ def read_quietly(path):
         return qcremesh.read_mesh(path)
 
 
-def closed_genus_0(F, n):
-    """Whether the faces F (of n vertices) are one closed surface of genus 0, which
-    qcremesh.remesh takes besides disks."""
-    return (
-        len(F) > 0
-        and len(topology.boundary_edges(F)) == 0
-        and topology.connected_components(F, n)[0] == 1
-        and topology.euler_characteristic(F) == 2
-        and len(topology.nonmanifold_edges(F)) == 0
-        and len(topology.nonmanifold_vertices(F)) == 0
-    )
-
-
 def inventory(folder, names):
     """Readable meshes of the folder, each once (a file with the same vertices and faces as
     an earlier one is skipped), and whether each is a disk. Returns (meshes, skipped)."""
@@ -154,7 +141,7 @@ def inventory(folder, names):
                 "vertices": len(V),
                 "faces": len(F),
                 "not_disk": not_disk,
-                "closed_genus_0": not_disk is not None and closed_genus_0(F, len(V)),
+                "closed_genus_0": not_disk is not None and topology.closed_genus(F, len(V)) == 0,
             }
         )
     meshes.sort(key=lambda m: m["faces"])

@@ -144,3 +144,14 @@ def test_adjacency_matrix_has_a_one_on_every_edge_both_ways():
     assert A.nnz == 2 * len(E) and np.all(A.data == 1.0)
     assert np.all(A[E[:, 0], E[:, 1]] == 1.0) and np.all(A[E[:, 1], E[:, 0]] == 1.0)
     assert A[len(V)].nnz == 0
+
+
+def test_closed_genus():
+    from conftest import grid_disk, sphere_mesh, torus_mesh
+    from qcremesh.mesh.topology import closed_genus
+
+    V, F = sphere_mesh(200)
+    assert closed_genus(F) == 0
+    assert closed_genus(torus_mesh()[1]) == 1
+    assert closed_genus(grid_disk(5)[1]) is None  # a boundary
+    assert closed_genus(np.concatenate([F, F + len(V)])) is None  # two pieces

@@ -21,6 +21,7 @@ __all__ = [
     "boundary_loop",
     "connected_components",
     "euler_characteristic",
+    "closed_genus",
     "nonmanifold_edges",
     "nonmanifold_vertices",
     "inconsistent_edges",
@@ -227,6 +228,17 @@ def euler_characteristic(F):
     """V - E + F over the vertices referenced by ``F``."""
     F = np.asarray(F)
     return len(unique_integers(F)) - len(edges(F)) + len(F)
+
+
+def closed_genus(F, n=None):
+    """Genus of ``F`` where it is one closed surface (connected, no boundary, no
+    non-manifold edge or vertex), None otherwise: (2 - chi) / 2."""
+    F = np.asarray(F)
+    if not len(F) or len(boundary_edges(F)) or connected_components(F, n)[0] != 1:
+        return None
+    if len(nonmanifold_edges(F)) or len(nonmanifold_vertices(F)):
+        return None
+    return (2 - euler_characteristic(F)) // 2
 
 
 def nonmanifold_edges(F, twins=None):

@@ -63,8 +63,7 @@ from ..mesh.subdivide import upsample
 from ..mesh.topology import (
     boundary_edges,
     boundary_loop,
-    connected_components,
-    euler_characteristic,
+    closed_genus,
     inconsistent_edges,
     needles_and_caps,
     nonmanifold_edges,
@@ -426,12 +425,11 @@ def remesh(
         raise ValueError("the 'uniform' method takes no sizing")
     if fixed_boundary and (relax == 0 or method == "uniform"):
         raise ValueError("a fixed boundary needs the relaxation (relax > 0) and a method other than 'uniform'")
-    closed = len(F) and not len(boundary_edges(F)) and connected_components(F, len(V))[0] == 1
-    if closed and not len(nonmanifold_edges(F)) and not len(nonmanifold_vertices(F)):
-        chi = euler_characteristic(F)
-        if chi != 2:
+    genus = closed_genus(F, len(V))
+    if genus is not None:
+        if genus != 0:
             raise TopologyError(
-                f"closed surface of genus {(2 - chi) // 2} (Euler characteristic {chi}); "
+                f"closed surface of genus {genus} (Euler characteristic {2 - 2 * genus}); "
                 "remesh takes disks and closed surfaces of genus 0"
             )
         options = dict(
