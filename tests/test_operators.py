@@ -69,3 +69,18 @@ def test_vertex_areas_are_a_third_of_the_faces_around():
         around = (F == v).any(axis=1)
         np.testing.assert_allclose(area[v], doublearea(uv, F[around]).sum() / 6)
     assert len(vertex_areas(uv, F, len(uv) + 2)) == len(uv) + 2
+
+
+def test_vertex_normals_of_a_plane_and_a_sphere():
+    from conftest import grid_disk, sphere_mesh
+    from qcremesh.geometry.operators import vertex_normals
+    from qcremesh.mesh.topology import vertex_face_incidence
+
+    uv, F = grid_disk(6, jitter=0.3)
+    V = np.column_stack([uv, np.zeros(len(uv))]) @ np.array([[1, 0, 0], [0, 0.6, 0.8], [0, -0.8, 0.6]])
+    np.testing.assert_allclose(vertex_normals(V, F), np.tile([0, -0.8, 0.6], (len(V), 1)), atol=1e-12)
+    V, F = sphere_mesh(500)
+    N = vertex_normals(V, F)
+    np.testing.assert_allclose(np.linalg.norm(N, axis=1), 1)
+    assert (N * V).sum(1).min() > 0.95  # about radial, outwards
+    np.testing.assert_array_equal(vertex_normals(V, F, vertex_face_incidence(F, len(V))), N)

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..geometry.vectors import cross, norm
+from ..geometry.operators import vertex_normals
 
 __all__ = ["check_sizing", "curvature_sizing"]
 
@@ -30,13 +30,6 @@ def check_sizing(sizing, n):
     if not np.all(np.isfinite(s) & (s > 0)):
         raise ValueError("sizing must be finite and positive at every vertex")
     return s / s.max()
-
-
-def _vertex_normals(V, F):
-    """Area-weighted unit vertex normals, (n, 3)."""
-    N = cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
-    out = np.column_stack([np.bincount(F.ravel(), np.repeat(N[:, c], 3), len(V)) for c in range(3)])
-    return out / np.maximum(norm(out), 1e-300)[:, None]
 
 
 def curvature_sizing(V, F, edge_length, *, min_ratio=0.6, quantile=0.8, gradation=0.2, neighbours=16):
@@ -91,7 +84,7 @@ def curvature_sizing(V, F, edge_length, *, min_ratio=0.6, quantile=0.8, gradatio
     F = np.asarray(F, dtype=np.int64)
     n = len(V)
     h = float(edge_length)
-    normal = _vertex_normals(V, F)
+    normal = vertex_normals(V, F)
     tree = cKDTree(V)
     k = min(neighbours + 1, n)
     dist, near = tree.query(V, k=k, distance_upper_bound=h, workers=-1)

@@ -6,10 +6,18 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ..mesh.topology import adjacency_matrix
+from ..mesh.topology import adjacency_matrix, vertex_face_incidence
 from .vectors import cross, norm
 
-__all__ = ["doublearea", "signed_doublearea", "vertex_areas", "face_gradients", "cotmatrix", "uniform_laplacian"]
+__all__ = [
+    "doublearea",
+    "signed_doublearea",
+    "vertex_areas",
+    "vertex_normals",
+    "face_gradients",
+    "cotmatrix",
+    "uniform_laplacian",
+]
 
 
 def doublearea(V, F):
@@ -43,6 +51,25 @@ def vertex_areas(V, F, n=None):
     """
     n = len(V) if n is None else n
     return np.bincount(np.asarray(F).ravel(), weights=np.repeat(doublearea(V, F) / 6, 3), minlength=n)
+
+
+def vertex_normals(V, F, incidence=None):
+    """Unit area-weighted vertex normals: the sum of the cross products
+    (v1 - v0) x (v2 - v0) of the faces around each vertex, normalized, (n, 3).
+
+    Parameters
+    ----------
+    V : (n, 3) float
+    F : (m, 3) int
+    incidence : (n, m) sparse, optional
+        The vertex-face incidence of ``F``, where it is at hand (a caller that takes the
+        normals of moving vertices many times).
+    """
+    F = np.asarray(F)
+    incidence = vertex_face_incidence(F, len(V)) if incidence is None else incidence
+    P0, P1, P2 = (np.take(V, F[:, c], axis=0) for c in range(3))
+    out = incidence @ cross(P1 - P0, P2 - P0)
+    return out / np.maximum(norm(out), 1e-300)[:, None]
 
 
 def face_gradients(uv, F):

@@ -32,9 +32,9 @@ import numpy as np
 
 from ..adaptive.landmarks import interpolate_on_boundary
 from ..geometry.locate import interpolate_barycentric, locate_points
-from ..geometry.operators import signed_doublearea
+from ..geometry.operators import signed_doublearea, vertex_normals
 from ..geometry.quality import radius_ratio
-from ..geometry.vectors import cross, norm
+from ..geometry.vectors import norm
 from ..mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
 from .min_quality import QUALITY_FLOOR, raise_min_quality
 from .onsurface import BoundaryCurve, closest_point_near, csr_rows
@@ -64,14 +64,6 @@ SNAPPED_FLOOR = 0.4
 WALK_ROUNDS = 64
 
 
-def _vertex_normals(X, Fo, VF):
-    """Unit area-weighted vertex normals, (k, 3); ``VF`` is the (k, l) vertex-face
-    incidence of ``Fo``."""
-    P0, P1, P2 = (np.take(X, Fo[:, c], axis=0) for c in range(3))
-    out = VF @ cross(P1 - P0, P2 - P0)
-    return out / np.maximum(norm(out), 1e-300)[:, None]
-
-
 def _edge_lengths(X, E):
     """Lengths of the edges ``E`` (e, 2), (e,)."""
     return norm(np.take(X, E[:, 0], axis=0) - np.take(X, E[:, 1], axis=0))
@@ -83,7 +75,7 @@ def _smooth(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, st
     vertices (the others unchanged)."""
     k = len(X)
     deg = np.diff(ring.indptr)
-    normal = _vertex_normals(X, Fo, VF)[verts]
+    normal = vertex_normals(X, Fo, VF)[verts]
     d = (ring @ X) / deg[:, None] - X[verts]
     d -= (d * normal).sum(1, keepdims=True) * normal
     length = _edge_lengths(X, E)
