@@ -249,22 +249,16 @@ def _plan(V, F, bnd, faces, levels, density=None, even=False):
     return nb, ni, perimeter / nb, base_faces
 
 
-def _remesh_closed(V, F, faces, sizing, data, options):
+def _remesh_closed(V, F, faces, sizing, data, repairs, options):
     """:func:`remesh` of a closed surface of genus 0: cut open along the shortest edge
     path between its two vertices farthest apart along its principal axis (a slit, whose
     ends the boundary turns back at, so they are corners), remeshed as a disk with a
     fixed boundary, and welded shut along the slit. ``levels`` are welded each; ``uv``,
-    ``disk_levels`` and ``mu`` stay those of the slit disk."""
+    ``disk_levels`` and ``mu`` stay those of the slit disk; ``repairs``, the stats of
+    what :func:`_repair` mended first (the faces' orientation, which the cut needs to
+    tell the two sides of the path), join the result's."""
     if options["relax"] == 0 or options["method"] == "uniform":
         raise ValueError("a closed surface needs the relaxation (relax > 0) and a method other than 'uniform'")
-    turned = 0
-    if len(inconsistent_edges(F)):
-        # (the cut needs the faces' orientations to tell the two sides of the path)
-        try:
-            F, reversed_faces = orient_faces(F)
-        except ValueError as error:
-            raise OrientationError(f"closed surface: {error}") from error
-        turned = int(reversed_faces.sum())
     centred = V - V.mean(0)
     axis = np.linalg.svd(centred[:: max(1, len(V) // 20000)], full_matrices=False)[2][0]
     along = centred @ axis
@@ -289,9 +283,7 @@ def _remesh_closed(V, F, faces, sizing, data, options):
     Vo, Fo, kept = weld(result.V, result.F)
     levels = [weld(X, f)[:2] for X, f in result.levels]
     out_data = {k: np.asarray(v)[kept] for k, v in result.data.items()}
-    stats = dict(result.stats, closed_cut_vertices=len(path))
-    if turned:
-        stats["reoriented_faces"] = turned
+    stats = dict(repairs, **result.stats, closed_cut_vertices=len(path))
     return RemeshResult(Vo, Fo, result.uv, levels, out_data, result.disk_levels, result.mu, stats, result.times)
 
 
@@ -425,18 +417,6 @@ def remesh(
         raise ValueError("the 'uniform' method takes no sizing")
     if fixed_boundary and (relax == 0 or method == "uniform"):
         raise ValueError("a fixed boundary needs the relaxation (relax > 0) and a method other than 'uniform'")
-    genus = closed_genus(F, len(V))
-    if genus is not None:
-        if genus != 0:
-            raise TopologyError(
-                f"closed surface of genus {genus} (Euler characteristic {2 - 2 * genus}); "
-                "remesh takes disks and closed surfaces of genus 0"
-            )
-        options = dict(
-            levels=levels, method=method, seed=seed, corner_angle=corner_angle, cvt_iterations=cvt_iterations,
-            relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries, progress=progress,
-        )
-        return _remesh_closed(V, F, faces, "curvature" if curvature else sizing, data, options)
     if method == "base":
         levels = 0
     while levels > 0 and faces / 4**levels < MIN_BASE_FACES:
@@ -454,13 +434,29 @@ def remesh(
 
     stage("parameterize")
     try:
-        dm = disk_conformal_map(V, F)
-    except (OrientationError, DegenerateFaceError) as error:
-        repaired = _repair(V, F, data, sizing, stats)
-        if repaired is None:
-            raise error
-        V, F, data, sizing = repaired
-        dm = disk_conformal_map(V, F)
+        try:
+            dm = disk_conformal_map(V, F)
+        except (OrientationError, DegenerateFaceError) as error:
+            repaired = _repair(V, F, data, sizing, stats)
+            if repaired is None:
+                raise error
+            V, F, data, sizing = repaired
+            dm = disk_conformal_map(V, F)
+    except TopologyError:
+        # Not a disk: a closed surface of genus 0 is cut open, remeshed and welded.
+        genus = closed_genus(F, len(V))
+        if genus is None:
+            raise
+        if genus != 0:
+            raise TopologyError(
+                f"closed surface of genus {genus} (Euler characteristic {2 - 2 * genus}); "
+                "remesh takes disks and closed surfaces of genus 0"
+            ) from None
+        options = dict(
+            levels=levels, method=method, seed=seed, corner_angle=corner_angle, cvt_iterations=cvt_iterations,
+            relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries, progress=progress,
+        )
+        return _remesh_closed(V, F, faces, "curvature" if curvature else sizing, data, stats, options)
     stats.update(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces
     )
