@@ -182,3 +182,28 @@ def torus_mesh(k=24, seed=0):
     F = np.concatenate([np.column_stack([q[0].ravel(), q[1].ravel(), q[2].ravel()]),
                         np.column_stack([q[0].ravel(), q[2].ravel(), q[3].ravel()])])
     return V, F
+
+
+def holed_disk(k=30, holes=((0.3, 0.3, 0.12), (0.7, 0.6, 0.15)), seed=0):
+    """A jittered k x k grid of the unit square bent into a bump, with round holes (x, y,
+    radius) cut out, their borders sampled on their circles at the grid's spacing: a
+    surface of genus 0 with 1 + len(holes) boundary loops, counter-clockwise faces."""
+    uv = grid_disk(k, jitter=0.3, seed=seed)[0]
+    keep = np.ones(len(uv), dtype=bool)
+    rims = []
+    for x, y, r in holes:
+        keep &= np.hypot(uv[:, 0] - x, uv[:, 1] - y) > r + 0.5 / k
+        t = 2 * np.pi * np.arange(int(np.ceil(2 * np.pi * r * k))) / np.ceil(2 * np.pi * r * k)
+        rims.append(np.column_stack([x + r * np.cos(t), y + r * np.sin(t)]))
+    uv = np.concatenate([uv[keep]] + rims)
+    F = Delaunay(uv).simplices.astype(np.int64)
+    centre = uv[F].mean(1)
+    inside = np.zeros(len(F), dtype=bool)
+    for x, y, r in holes:
+        inside |= np.hypot(centre[:, 0] - x, centre[:, 1] - y) < r
+    F = F[~inside]
+    a, b = uv[F[:, 1]] - uv[F[:, 0]], uv[F[:, 2]] - uv[F[:, 0]]
+    cw = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0] < 0
+    F[cw] = F[cw][:, ::-1]
+    V = np.column_stack([uv, 0.3 * np.sin(np.pi * uv[:, 0]) * np.sin(np.pi * uv[:, 1])])
+    return V, F

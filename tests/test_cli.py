@@ -4,7 +4,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import DATA, grid_disk, shared, sphere_mesh, split_vertex, star_disk, strip_disk, torus_mesh, tube_disk
+from conftest import DATA, grid_disk, holed_disk, shared, sphere_mesh, split_vertex, star_disk, strip_disk, torus_mesh, tube_disk
 from qcremesh.cli.main import main
 from qcremesh.mesh.io import read_mesh, write_mesh
 from qcremesh.mesh.subdivide import upsample
@@ -218,7 +218,10 @@ def test_remesh_cli_errors(tmp_path, capsys):
     out = tmp_path / "x.obj"
     assert main(["remesh", str(DATA / "featuretype.STL"), "-o", str(out)]) == 1
     err = capsys.readouterr().err.strip()
-    assert err == f"qcremesh: error: {DATA / 'featuretype.STL'}: 16 boundary loops, a disk has 1"
+    assert err == (
+        f"qcremesh: error: {DATA / 'featuretype.STL'}: surface of genus 1 with 16 boundary loops (Euler characteristic "
+        "-16); remesh takes surfaces of genus 0: disks, disks with holes, closed surfaces"
+    )
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", "2"]) == 1
     assert capsys.readouterr().err.strip() == "qcremesh: error: --faces must be at least 4"
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "no" / "x.obj")]) == 1
@@ -281,15 +284,18 @@ def test_remesh_cli_sizing_from_a_vertex_array(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r.ply", "sized.vtk"]
 
 
-def test_remesh_cli_closes_a_closed_surface_and_refuses_a_torus(tmp_path, capsys):
+def test_remesh_cli_takes_closed_surfaces_and_holes_and_refuses_a_torus(tmp_path, capsys):
     path = tmp_path / "sphere.ply"
     write_mesh(path, *sphere_mesh(1500))
     assert main(["remesh", str(path), "-o", str(tmp_path / "r.obj"), "--faces", "2000"]) == 0
     assert "boundary loops 0, Euler characteristic 2, manifold yes" in capsys.readouterr().out
+    write_mesh(tmp_path / "holes.ply", *holed_disk())
+    assert main(["remesh", str(tmp_path / "holes.ply"), "-o", str(tmp_path / "h.obj")]) == 0
+    assert "boundary loops 3, Euler characteristic -1, manifold yes" in capsys.readouterr().out
     write_mesh(tmp_path / "torus.ply", *torus_mesh())
     assert main(["remesh", str(tmp_path / "torus.ply"), "-o", str(tmp_path / "t.obj")]) == 1
     assert capsys.readouterr().err.strip() == (
         f"qcremesh: error: {tmp_path / 'torus.ply'}: closed surface of genus 1 (Euler characteristic 0); "
-        "remesh takes disks and closed surfaces of genus 0"
+        "remesh takes surfaces of genus 0: disks, disks with holes, closed surfaces"
     )
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.obj", "sphere.ply", "torus.ply"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["h.obj", "holes.ply", "r.obj", "sphere.ply", "torus.ply"]

@@ -146,12 +146,15 @@ def test_adjacency_matrix_has_a_one_on_every_edge_both_ways():
     assert A[len(V)].nnz == 0
 
 
-def test_closed_genus():
-    from conftest import grid_disk, sphere_mesh, torus_mesh
-    from qcremesh.mesh.topology import closed_genus
+def test_genus():
+    from conftest import grid_disk, holed_disk, sphere_mesh, torus_mesh
+    from qcremesh.mesh.topology import genus
 
     V, F = sphere_mesh(200)
-    assert closed_genus(F) == 0
-    assert closed_genus(torus_mesh()[1]) == 1
-    assert closed_genus(grid_disk(5)[1]) is None  # a boundary
-    assert closed_genus(np.concatenate([F, F + len(V)])) is None  # two pieces
+    assert genus(F) == 0
+    assert genus(torus_mesh()[1]) == 1
+    assert genus(torus_mesh()[1][1:]) == 1  # a torus with a hole
+    assert genus(grid_disk(5)[1]) == 0
+    G = holed_disk()[1]
+    assert genus(G) == 0 and genus(G[:, ::-1]) == 0  # whatever the orientation
+    assert genus(np.concatenate([F, F + len(V)])) is None  # two pieces

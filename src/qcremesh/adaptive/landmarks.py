@@ -198,7 +198,7 @@ def _weighted(sigma, density):
     return np.r_[0.0, np.cumsum(np.diff(sigma) * (g + np.roll(g, -1)) / 2)]
 
 
-def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None):
+def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corners=None, smooth=True):
     """Boundary landmarks: ``count`` points spaced uniformly by arc length along the
     surface boundary (in the metric of a sizing field 1 / ``density``, where given), the
     sharp corners included, as angles on the circle.
@@ -208,7 +208,9 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None):
     spacing gets no landmark inside it (two landmarks on its walls would be much closer
     on the surface than the spacing). The boundary is split at its corners (or, with
     none, at ``bnd[0]``); each piece gets a number of landmarks proportional to its
-    length (at least its first vertex) and spaces them evenly.
+    length (at least its first vertex) and spaces them evenly. Without ``smooth``, the
+    arc length is the boundary's own, so that two pieces along the same polyline (the
+    two sides of a cut) get the same landmarks.
 
     Parameters
     ----------
@@ -223,6 +225,10 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None):
         Turning angle in degrees above which a boundary vertex is a corner.
     density : (b,) float, optional
         Landmarks per unit length at the boundary vertices, relative to each other.
+    corners : (c,) int, optional
+        Positions in ``bnd`` that are corners whatever the boundary's turn there; the
+        corners found within half a spacing of one are dropped.
+    smooth : bool
 
     Returns
     -------
@@ -233,13 +239,22 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None):
     theta_b = boundary_angles(uv, bnd)
     P = np.asarray(V, dtype=np.float64)[bnd]
     scale = _arc_length(P)[-1] / max(count, 3)
-    corners = boundary_corners(V, bnd, corner_angle, scale=scale)
-    sigma = smoothed_arc_length(P, scale, density)
+    found = boundary_corners(V, bnd, corner_angle, scale=scale)
+    sigma = smoothed_arc_length(P, scale if smooth else 0.0, density)
+    if corners is not None and len(corners):
+        corners = np.unique(np.asarray(corners, dtype=np.int64))
+        s = _arc_length(P)
+        gap = np.abs(s[found][:, None] - s[corners][None])
+        found = found[np.all(np.minimum(gap, s[-1] - gap) >= scale / 2, axis=1)]
+        corners = np.union1d(found, corners)
+    else:
+        corners = found
     total = sigma[-1]
     starts = corners if len(corners) else np.array([0])
     s0 = sigma[starts]
     lengths = np.diff(np.r_[s0, s0[0] + total])
-    per_piece = np.maximum(1, np.round(lengths / total * max(count, 3)).astype(int))
+    # (pieces of equal length, up to rounding, get as many: the two sides of a cut)
+    per_piece = np.maximum(1, np.round(np.round(lengths / total * max(count, 3), 9)).astype(int))
     piece = np.repeat(np.arange(len(starts)), per_piece)
     rank = np.arange(len(piece)) - np.repeat(np.cumsum(per_piece) - per_piece, per_piece)
     arc = s0[piece] + lengths[piece] * rank / per_piece[piece]

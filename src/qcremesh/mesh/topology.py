@@ -21,7 +21,7 @@ __all__ = [
     "boundary_loop",
     "connected_components",
     "euler_characteristic",
-    "closed_genus",
+    "genus",
     "nonmanifold_edges",
     "nonmanifold_vertices",
     "inconsistent_edges",
@@ -230,15 +230,26 @@ def euler_characteristic(F):
     return len(unique_integers(F)) - len(edges(F)) + len(F)
 
 
-def closed_genus(F, n=None):
-    """Genus of ``F`` where it is one closed surface (connected, no boundary, no
-    non-manifold edge or vertex), None otherwise: (2 - chi) / 2."""
+def genus(F, n=None):
+    """Genus of ``F`` where it is one surface (connected, no non-manifold edge or vertex),
+    None otherwise: (2 - chi - b) / 2 with b boundary loops (0 for a disk, a sphere and a
+    disk with holes; 1 for a torus, with or without holes).
+
+    On such a surface every boundary vertex has two boundary edges, so the loops are the
+    connected components of the boundary edges, whatever the faces' orientation.
+    """
     F = np.asarray(F)
-    if not len(F) or len(boundary_edges(F)) or connected_components(F, n)[0] != 1:
+    if not len(F) or connected_components(F, n)[0] != 1:
         return None
     if len(nonmanifold_edges(F)) or len(nonmanifold_vertices(F)):
         return None
-    return (2 - euler_characteristic(F)) // 2
+    B = boundary_edges(F)
+    loops = 0
+    if len(B):
+        m = int(F.max()) + 1
+        G = sp.csr_matrix((np.ones(len(B)), (B[:, 0], B[:, 1])), shape=(m, m))
+        loops = _cc(G, directed=False)[0] - (m - len(unique_integers(B)))
+    return (2 - euler_characteristic(F) - loops) // 2
 
 
 def nonmanifold_edges(F, twins=None):

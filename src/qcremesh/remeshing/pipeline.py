@@ -58,12 +58,13 @@ from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import doublearea, vertex_areas
 from ..geometry.quality import corner_radius_ratio_bound, radius_ratio, triangle_angles
 from ..geometry.repair import repair_degenerate_faces
-from ..mesh.cut import cut_along_path, shortest_edge_path, weld_slit
+from ..mesh.cut import cut_to_disk, weld_cuts
 from ..mesh.subdivide import upsample
 from ..mesh.topology import (
     boundary_edges,
     boundary_loop,
-    closed_genus,
+    boundary_loops,
+    genus,
     inconsistent_edges,
     needles_and_caps,
     nonmanifold_edges,
@@ -229,12 +230,11 @@ def _repair(V, F, data, sizing, stats):
     return (V, F, data, sizing) if repaired else None
 
 
-def _plan(V, F, bnd, faces, levels, density=None, even=False):
+def _plan(V, F, bnd, faces, levels, density=None):
     """Numbers of boundary and interior landmarks for ``faces`` output faces, the spacing
     of the boundary landmarks along the boundary, and the base mesh's face count wanted.
     With a ``density`` (n,), the inverse of a sizing field, areas are counted times
-    density^2 and boundary lengths times density. With ``even``, an even number of
-    boundary landmarks (the two sides of a slit get half each)."""
+    density^2 and boundary lengths times density."""
     base_faces = max(faces / 4**levels, 4.0)
     if density is None:
         area = doublearea(V, F).sum() / 2
@@ -244,46 +244,43 @@ def _plan(V, F, bnd, faces, levels, density=None, even=False):
     lengths = np.linalg.norm(V[np.roll(bnd, -1)] - V[bnd], axis=1)
     perimeter = lengths.sum()
     sized = perimeter if density is None else (lengths * (density[bnd] + density[np.roll(bnd, -1)]) / 2).sum()
-    nb = max(2 * int(round(sized / h / 2)), 4) if even else max(int(round(sized / h)), 3)
+    nb = max(int(round(sized / h)), 3)
     ni = max(int(round((base_faces - nb + 2) / 2)), 0)
     return nb, ni, perimeter / nb, base_faces
 
 
-def _remesh_closed(V, F, faces, sizing, data, repairs, options):
-    """:func:`remesh` of a closed surface of genus 0: cut open along the shortest edge
-    path between its two vertices farthest apart along its principal axis (a slit, whose
-    ends the boundary turns back at, so they are corners), remeshed as a disk with a
-    fixed boundary, and welded shut along the slit. ``levels`` are welded each; ``uv``,
-    ``disk_levels`` and ``mu`` stay those of the slit disk; ``repairs``, the stats of
-    what :func:`_repair` mended first (the faces' orientation, which the cut needs to
-    tell the two sides of the path), join the result's."""
+def _remesh_cut(V, F, faces, sizing, data, repairs, options):
+    """:func:`remesh` of a surface of genus 0 that is not a disk (closed, or with
+    holes): cut open into a disk (:func:`qcremesh.mesh.cut.cut_to_disk`), remeshed with a
+    fixed boundary whose corners include the cuts' ends (so that the two sides of each
+    cut get the same vertices), and welded shut along the cuts
+    (:func:`qcremesh.mesh.cut.weld_cuts`). ``levels`` are welded each; ``uv``,
+    ``disk_levels`` and ``mu`` stay those of the cut disk; ``repairs``, the stats of what
+    :func:`_repair` mended first (the faces' orientation, which the cut needs to tell the
+    two sides of a path), join the result's."""
     if options["relax"] == 0 or options["method"] == "uniform":
-        raise ValueError("a closed surface needs the relaxation (relax > 0) and a method other than 'uniform'")
-    centred = V - V.mean(0)
-    axis = np.linalg.svd(centred[:: max(1, len(V) // 20000)], full_matrices=False)[2][0]
-    along = centred @ axis
+        raise ValueError("a surface that is not a disk needs the relaxation (relax > 0) and a method other than 'uniform'")
     try:
-        path = shortest_edge_path(V, F, int(np.argmin(along)), int(np.argmax(along)))
-        F_cut, parent = cut_along_path(F, path, len(V))
+        F_cut, parent, paths = cut_to_disk(V, F, len(V))
     except ValueError as error:
-        raise TopologyError(f"cannot cut the closed surface open into a disk: {error}") from error
+        raise TopologyError(f"cannot cut the surface open into a disk: {error}") from error
     cut_data = {k: np.asarray(v)[parent] for k, v in data.items()} if data else data
     cut_sizing = sizing if sizing is None or isinstance(sizing, str) else np.asarray(sizing)[parent]
-    result = remesh(V[parent], F_cut, faces, sizing=cut_sizing, fixed_boundary=True, data=cut_data, **options)
-    # The slit's ends are corners of the disk, so output vertices where they are.
+    ends = np.array([path[[0, -1]] for path in paths])
+    result = remesh(
+        V[parent], F_cut, faces, sizing=cut_sizing, fixed_boundary=True,
+        corners=np.flatnonzero(np.isin(parent, ends)), data=cut_data, **options,
+    )
+
     def weld(X, Fo):
         loop = boundary_loop(Fo)
         tol = 1e-9 * np.linalg.norm(X[np.roll(loop, -1)] - X[loop], axis=1).mean()
-        gap = np.linalg.norm(X[loop][:, None] - V[path[[0, -1]]][None], axis=2)
-        ends = gap.argmin(0)
-        if gap[ends, [0, 1]].max() > tol:
-            raise ValueError("the remesh of the cut surface has no vertex at an end of the cut")
-        return weld_slit(X, Fo, loop, ends, tol)
+        return weld_cuts(X, Fo, V[ends], tol)
 
     Vo, Fo, kept = weld(result.V, result.F)
     levels = [weld(X, f)[:2] for X, f in result.levels]
     out_data = {k: np.asarray(v)[kept] for k, v in result.data.items()}
-    stats = dict(repairs, **result.stats, closed_cut_vertices=len(path))
+    stats = dict(repairs, **result.stats, cuts=len(paths), cut_vertices=int(sum(len(p) for p in paths)))
     return RemeshResult(Vo, Fo, result.uv, levels, out_data, result.disk_levels, result.mu, stats, result.times)
 
 
@@ -302,16 +299,18 @@ def remesh(
     retries=2,
     sizing=None,
     fixed_boundary=False,
+    corners=None,
     data=None,
     progress=None,
 ):
-    """Remesh a disk-topology triangle mesh, or a closed one of genus 0, into a regular,
-    semi-regular one.
+    """Remesh a triangle mesh of genus 0 (a disk; a disk with holes; a closed surface)
+    into a regular, semi-regular one.
 
-    A closed surface of genus 0 is cut open into a disk along the shortest path of its
-    edges between its two vertices farthest apart along its principal axis, remeshed
-    with ``fixed_boundary`` (so that the two sides of the cut get the same vertices) and
-    closed again (:func:`_remesh_closed`).
+    A surface of genus 0 that is not a disk is cut open into one along shortest paths of
+    its edges (a closed one between its two vertices farthest apart along its principal
+    axis; one with holes from each hole to the longest boundary loop), remeshed with
+    ``fixed_boundary`` and the cuts' ends as ``corners`` (so that the two sides of each
+    cut get the same vertices) and closed again (:func:`_remesh_cut`).
 
     Where the validation refuses the input for faces turned against their neighbours, or
     for needles and caps (faces of zero area or within rounding of it), these are mended
@@ -323,7 +322,8 @@ def remesh(
     ----------
     V : (n, 3) float
     F : (m, 3) int
-        A disk (see :func:`qcremesh.mesh.validate.check_disk`).
+        One connected manifold surface of genus 0 (a disk passes
+        :func:`qcremesh.mesh.validate.check_disk`).
     faces : int, optional
         Number of output faces wanted (the input's by default). The output has this many
         to within a few percent.
@@ -380,12 +380,15 @@ def remesh(
         sizing^-1; the interior keeps the grading of the landmarks' connectivity. Not
         with ``"uniform"``.
     fixed_boundary : bool
-        An even number of boundary landmarks, and the output's boundary vertices spaced
-        evenly by arc length between the boundary corners (all around where there is
-        none) and kept there through the relaxation (see
-        :func:`qcremesh.remeshing.relax.relax_on_surface`): parts of the border that
-        are the same polyline between corners and get as many vertices get the same
-        vertices (the two sides of a closed surface's cut). Needs ``relax``.
+        The boundary landmarks spaced by arc length itself (not smoothed at their
+        spacing), and the output's boundary vertices spaced evenly by arc length between
+        the boundary corners (all around where there is none) and kept there through
+        the relaxation (see :func:`qcremesh.remeshing.relax.relax_on_surface`): parts of
+        the border that are the same polyline between corners get the same vertices
+        (the two sides of a cut). Needs ``relax``.
+    corners : (c,) int, optional
+        Input boundary vertices kept as output vertices (boundary corners), besides those
+        found by ``corner_angle``.
     data : dict of str to (n,) or (n, d) array, optional
         Per-vertex attributes (normals, colours, scalars, UVs) to carry to the output.
     progress : callable, optional
@@ -417,6 +420,10 @@ def remesh(
         raise ValueError("the 'uniform' method takes no sizing")
     if fixed_boundary and (relax == 0 or method == "uniform"):
         raise ValueError("a fixed boundary needs the relaxation (relax > 0) and a method other than 'uniform'")
+    if corners is not None:
+        corners = np.unique(np.asarray(corners, dtype=np.int64))
+        if method == "uniform" and len(corners):
+            raise ValueError("the 'uniform' method takes no corners")
     if method == "base":
         levels = 0
     while levels > 0 and faces / 4**levels < MIN_BASE_FACES:
@@ -443,26 +450,38 @@ def remesh(
             V, F, data, sizing = repaired
             dm = disk_conformal_map(V, F)
     except TopologyError:
-        # Not a disk: a closed surface of genus 0 is cut open, remeshed and welded.
-        genus = closed_genus(F, len(V))
-        if genus is None:
+        # Not a disk: a surface of genus 0 is cut open, remeshed and welded.
+        g = genus(F, len(V))
+        if g is None:
             raise
-        if genus != 0:
+        if g != 0:
+            loops = len(boundary_loops(F))
+            kind = "closed surface" if not loops else "surface"
+            holes = f" with {loops} boundary loop" + "s" * (loops > 1) if loops else ""
             raise TopologyError(
-                f"closed surface of genus {genus} (Euler characteristic {2 - 2 * genus}); "
-                "remesh takes disks and closed surfaces of genus 0"
+                f"{kind} of genus {g}{holes} (Euler characteristic {2 - 2 * g - loops}); "
+                "remesh takes surfaces of genus 0: disks, disks with holes, closed surfaces"
             ) from None
+        if corners is not None and len(corners):
+            raise ValueError("corners are taken only on a disk")
         options = dict(
             levels=levels, method=method, seed=seed, corner_angle=corner_angle, cvt_iterations=cvt_iterations,
             relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries, progress=progress,
         )
-        return _remesh_closed(V, F, faces, "curvature" if curvature else sizing, data, stats, options)
+        return _remesh_cut(V, F, faces, "curvature" if curvature else sizing, data, stats, options)
     stats.update(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces
     )
     done("parameterize")
 
     bnd = dm.boundary
+    corner_at = None
+    if corners is not None:
+        position = np.full(len(V), -1, dtype=np.int64)
+        position[bnd] = np.arange(len(bnd))
+        corner_at = position[corners[(corners >= 0) & (corners < len(V))]]
+        if len(corner_at) != len(corners) or (corner_at < 0).any():
+            raise ValueError("corners must be vertices of the boundary")
     if curvature:
         edge = np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * faces))
         sizing = curvature_sizing(V, F, edge)
@@ -480,7 +499,7 @@ def remesh(
     # Where the CVT's cells come out far from equal on the surface (above MAX_CELL_SPREAD),
     # fewer levels (more landmarks) are planned and the landmarks drawn again.
     while True:
-        nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels, density, fixed_boundary)
+        nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels, density)
         # A base mesh with fewer interior landmarks than boundary ones is mostly chords
         # between boundary landmarks, which neither subdivision nor relaxation turns into a
         # regular mesh (camel_b.obj, cut open along slits into a disk whose boundary is 28
@@ -488,7 +507,7 @@ def remesh(
         # face count, mean radius ratio 0.51); with fewer levels the base mesh gets an interior.
         while levels > 0 and ni < nb:
             levels -= 1
-            nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels, density, fixed_boundary)
+            nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels, density)
         stats["levels"] = levels
 
         # What the landmarks of every draw share: the boundary landmarks, and the samples of
@@ -501,7 +520,8 @@ def remesh(
             corner = np.zeros(nbu, dtype=bool)
         else:
             theta, corner = boundary_landmarks(
-                V, dm.uv, bnd, nb, corner_angle, None if density is None else density[bnd]
+                V, dm.uv, bnd, nb, corner_angle, None if density is None else density[bnd],
+                corners=corner_at, smooth=not fixed_boundary,
             )
             stats["boundary_corners"] = int(corner.sum())
             if corner.any():
