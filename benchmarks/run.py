@@ -141,7 +141,7 @@ def inventory(folder, names):
                 "vertices": len(V),
                 "faces": len(F),
                 "not_disk": not_disk,
-                "closed_genus_0": not_disk is not None and topology.closed_genus(F, len(V)) == 0,
+                "genus": topology.genus(F, len(V)),
             }
         )
     meshes.sort(key=lambda m: m["faces"])
@@ -291,9 +291,9 @@ def previous_lengths(out):
 
 
 def remesh_rows(meshes, args):
-    """Every remesher on every mesh at its face count and at half; qcremesh remeshes disks
-    and closed surfaces of genus 0 only, so the other meshes get a skipped row with the
-    reason instead of a job."""
+    """Every remesher on every mesh at its face count and at half; qcremesh remeshes
+    surfaces of genus 0 only (disks, with holes or closed), so the other meshes get a
+    skipped row with the reason instead of a job."""
     rows = []
     lengths = previous_lengths(args.out)
     for m in meshes:
@@ -303,8 +303,9 @@ def remesh_rows(meshes, args):
                 start = lengths.get((tool, m["mesh"], m["faces"], job["faces"]))
                 if start is not None:
                     job["start"] = start
-                if tool == "qcremesh" and m["not_disk"] is not None and not m["closed_genus_0"]:
-                    reason = f"neither a disk nor closed of genus 0: {m['not_disk']}"
+                if tool == "qcremesh" and m["genus"] != 0:
+                    why = m["not_disk"] if m["genus"] is None else f"genus {m['genus']}"
+                    reason = f"not one surface of genus 0: {why}"
                     rows.append(dict(job, status="skipped", reason=reason))
                 else:
                     rows.append(run_job(job, args))
