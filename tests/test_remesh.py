@@ -1,12 +1,19 @@
 import numpy as np
 import pytest
 
-from conftest import DATA, shared, star_disk, strip_disk, tube_disk
+from conftest import DATA, grid_disk, holed_disk, shared, sphere_mesh, star_disk, strip_disk, torus_mesh, tube_disk
 from qcremesh.geometry.distance import point_mesh_distance
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
 from qcremesh.mesh.io import read_mesh
-from qcremesh.mesh.topology import boundary_loop, boundary_loops, euler_characteristic
-from qcremesh.mesh.validate import check_disk
+from qcremesh.mesh.topology import (
+    boundary_loop,
+    boundary_loops,
+    connected_components,
+    duplicate_faces,
+    euler_characteristic,
+)
+from qcremesh.mesh.validate import MeshError, TopologyError, check_disk
+from qcremesh.param.disk import disk_conformal_map
 from qcremesh.remeshing.pipeline import METHODS, remesh
 
 
@@ -259,3 +266,65 @@ def test_sheared_star_remeshes_without_slivers():
         corners = V[np.isclose(radius, 1.0) | np.isclose(radius, 0.45)]
         assert len(corners) == 10
         assert np.all(np.min(np.linalg.norm(r.V[:, None] - corners[None], axis=2), axis=0) < 1e-12)
+
+
+def test_faces_listed_twice_are_kept_once(fran):
+    V, F, _ = fran
+    twice = np.r_[F, F[[10, 20, 20]], F[[30], ::-1]]  # one face three times, one turned
+    np.testing.assert_array_equal(duplicate_faces(twice), len(F) + np.arange(4))
+    r = remesh(V, twice, 2000, seed=3)
+    assert r.stats["duplicate_faces"] == 4
+    np.testing.assert_array_equal(r.F, remesh(V, F, 2000, seed=3).F)
+    # where more is wrong (a third face on an interior edge), the input's validation
+    # message stands, the repeated faces' edges included
+    a, b = F[np.argmin(np.linalg.norm(V[F].mean(1) - V.mean(0), axis=1)), :2]
+    with pytest.raises(MeshError, match=r"^8 non-manifold edges at vertices .*\(3 more\)$"):
+        remesh(np.r_[V, [V.mean(0) + 0.01]], np.r_[twice, [[a, b, len(V)]]], 2000)
+
+
+def test_a_disk_with_no_interior_vertex_is_split_first():
+    V = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0], [1, 1, 0], [2, 1, 0.5]], float)
+    F = np.array([[0, 1, 4], [0, 4, 3], [1, 2, 5], [1, 5, 4]])
+    with pytest.raises(TopologyError, match=r"^every vertex is on the boundary; the disk map needs an interior vertex"):
+        disk_conformal_map(V, F)
+    r = remesh(V, F, 60, data={"t": V[:, 0]})
+    assert r.stats["subdivided_input"] and len(boundary_loops(r.F)) == 1 and euler_characteristic(r.F) == 1
+    assert point_mesh_distance(r.V, V, F)[0].max() < 1e-12
+    np.testing.assert_allclose(r.data["t"], r.V[:, 0], atol=1e-12)  # linear data stays linear
+    assert radius_ratio(r.V, r.F).min() > 0.3
+
+
+def test_pieces_are_remeshed_each_and_joined():
+    """A disk with two holes beside a sphere: each piece keeps its topology and gets faces
+    in proportion to its area; the levels stay a hierarchy."""
+    V1, F1 = holed_disk(40)
+    V2, F2 = sphere_mesh(1500)
+    V = np.r_[V1, 0.3 * V2 + [2.0, 0.0, 0.0]]
+    F = np.r_[F1, F2 + len(V1)]
+    r = remesh(V, F, 6000, data={"x": V[:, 0]})
+    count, label = connected_components(r.F, len(r.V))
+    assert count == 2 and r.stats["pieces"] == 2
+    disk = label == label[np.argmin(r.V[r.F[:, 0], 0])]
+    ball = ~disk
+    assert len(boundary_loops(r.F[disk])) == 3 and not len(boundary_loops(r.F[ball]))
+    area = [1 - np.pi * (0.12**2 + 0.15**2), 4 * np.pi * 0.09]  # about: the bump adds a little
+    assert abs(disk.sum() / ball.sum() - area[0] / area[1]) < 0.25 * area[0] / area[1]
+    assert abs(len(r.F) - 6000) <= 300
+    assert point_mesh_distance(r.V, V, F)[0].max() < 1e-9
+    np.testing.assert_allclose(r.data["x"], r.V[:, 0], atol=1e-9)
+    assert radius_ratio(r.V, r.F).mean() > 0.96
+    for (Vc, Fc), (Vf, Ff) in zip(r.levels[:-1], r.levels[1:]):
+        children = Ff.reshape(-1, 4, 3)
+        for c in range(3):
+            assert np.all((children == Fc[:, c][:, None, None]).any(axis=(1, 2)))
+        np.testing.assert_array_equal(Vf[: len(Vc)], Vc)
+    np.testing.assert_array_equal(r.levels[-1][1], r.F)
+    with pytest.raises(MeshError, match=r"^piece 2 of 2 \(576 faces\): closed surface of genus 1"):
+        remesh(np.r_[V1, torus_mesh()[0] + 5], np.r_[F1, torus_mesh()[1] + len(V1)], 3000)
+
+
+def test_a_triangle_soup_is_refused():
+    uv, F = grid_disk(5)
+    V = np.column_stack([uv, np.zeros(len(uv))])[F].reshape(-1, 3)
+    with pytest.raises(TopologyError, match=r"connected components, a disk has 1 \(no two faces share a vertex"):
+        remesh(V, np.arange(len(V)).reshape(-1, 3))

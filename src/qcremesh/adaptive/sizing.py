@@ -11,8 +11,9 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..geometry.operators import vertex_normals
+from ..mesh.topology import boundary_loops
 
-__all__ = ["check_sizing", "curvature_sizing"]
+__all__ = ["check_sizing", "curvature_sizing", "hole_sizing"]
 
 
 def check_sizing(sizing, n):
@@ -111,3 +112,50 @@ def curvature_sizing(V, F, edge_length, *, min_ratio=0.6, quantile=0.8, gradatio
                 break
             s = grown
     return s
+
+
+def hole_sizing(V, F, edge_length, *, min_edges=6, gradation=0.2):
+    """Relative edge lengths that give every boundary loop but the longest (the holes)
+    at least about ``min_edges`` edges.
+
+    A hole of perimeter P shorter than ``min_edges`` planned edges h would get a few
+    edges much shorter than those around it (a hole of a scan the size of one edge: four
+    edges of a quarter of it, and slivers), so the edges are shortened towards it:
+
+        s(v) = min(1, min over such holes of P / (min_edges h) + gradation d(v) / h),
+
+    with d(v) the distance from v to the hole's nearest vertex.
+
+    Parameters
+    ----------
+    V : (n, 3) float
+    F : (m, 3) int
+    edge_length : float
+        The mean output edge length planned.
+    min_edges : float
+    gradation : float
+        Growth of s per edge length away from a hole.
+
+    Returns
+    -------
+    (n,) float
+        In (0, 1]; all ones where every hole is long enough.
+    """
+    V = np.asarray(V, dtype=np.float64)
+    h = float(edge_length)
+    s = np.ones(len(V))
+    tree = None
+    for loop in boundary_loops(F)[1:]:
+        P = V[loop]
+        perimeter = np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1).sum()
+        if perimeter >= min_edges * h:
+            continue
+        tree = cKDTree(V) if tree is None else tree
+        # s reaches 1 this far from the hole
+        reach = (1 - perimeter / (min_edges * h)) * h / max(gradation, 1e-12)
+        centre = P.mean(0)
+        inside = tree.query_ball_point(centre, reach + np.linalg.norm(P - centre, axis=1).max())
+        inside = np.asarray(inside, dtype=np.int64)
+        d = cKDTree(P).query(V[inside])[0]
+        s[inside] = np.minimum(s[inside], perimeter / (min_edges * h) + gradation * d / h)
+    return np.minimum(s, 1.0)

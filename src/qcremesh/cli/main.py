@@ -28,7 +28,7 @@ from pathlib import Path
 
 from .. import __version__
 from ..mesh.io import MeshReadError, check_writable, read_mesh, write_mesh
-from ..mesh.topology import boundary_edges, edges, orient_faces
+from ..mesh.topology import boundary_edges, duplicate_faces, edges, orient_faces
 from ..mesh.validate import MeshError, foldover_edges
 from ..param.disk import disk_conformal_map
 from ..remeshing.min_quality import QUALITY_FLOOR
@@ -225,6 +225,8 @@ def _remesh(args, out):
         print(line, file=out)
     st = result.stats
     mended = []
+    if "duplicate_faces" in st:
+        mended.append(f"{st['duplicate_faces']} faces listed more than once kept once")
     if "reoriented_faces" in st:
         mended.append(f"{st['reoriented_faces']} faces turned against their neighbours reversed")
     if "repaired_needles" in st:
@@ -234,8 +236,10 @@ def _remesh(args, out):
         )
     if mended:
         print("repaired the input first: " + "; ".join(mended), file=out)
-    # the faces as remesh oriented them, where it reversed some turned against the others
-    _warn_foldovers(V, orient_faces(F)[0] if "reoriented_faces" in st else F)
+    # the faces as remesh kept and oriented them, where it dropped repeated ones or reversed
+    # some turned against the others
+    kept = np.delete(F, duplicate_faces(F), axis=0) if "duplicate_faces" in st else F
+    _warn_foldovers(V, orient_faces(kept)[0] if "reoriented_faces" in st else kept)
     _warn_folded(st["param_folded_faces"])
     if st["param_narrowest_share"] > CROWDED_BOUNDARY_SHARE:
         print(

@@ -30,6 +30,7 @@ __all__ = [
     "face_edge_lengths",
     "needles_and_caps",
     "degenerate_faces",
+    "duplicate_faces",
     "adjacency_matrix",
     "vertex_face_incidence",
     "unique_integers",
@@ -453,6 +454,19 @@ def needles_and_caps(V, F):
         cos = (b * b + c * c - a * a) / (2 * b * c)  # of the angle opposite the longest edge
     cap = ~needle & (cos <= np.cos(np.radians(CAP_ANGLE)))
     return needle, cap
+
+
+def duplicate_faces(F):
+    """Faces over the same three vertices as an earlier face, in either orientation,
+    (k,) int64 face indices, increasing (a face listed twice makes its edges
+    non-manifold)."""
+    F = np.asarray(F)
+    if not len(F):
+        return np.zeros(0, dtype=np.int64)
+    _, first = np.unique(np.sort(F, axis=1), axis=0, return_index=True)
+    repeated = np.ones(len(F), dtype=bool)
+    repeated[first] = False
+    return np.flatnonzero(repeated)
 
 
 def degenerate_faces(V, F):

@@ -74,7 +74,7 @@ from ..geometry.intrinsic import intrinsic_cotmatrix, intrinsic_delaunay
 from ..geometry.linsolve import complement, dirichlet_solve, spd_solver
 from ..geometry.operators import signed_doublearea, vertex_areas
 from ..mesh.topology import adjacency_matrix, boundary_loop, edges
-from ..mesh.validate import check_disk
+from ..mesh.validate import TopologyError, check_disk
 from .tutte import tutte_embedding
 
 __all__ = ["DiskMap", "disk_conformal_map", "harmonic_measure", "mobius_normalize"]
@@ -215,6 +215,10 @@ def disk_conformal_map(V, F, *, check=True):
     V = np.asarray(V, dtype=np.float64)
     F = np.asarray(F, dtype=np.int64)
     bnd = check_disk(V, F) if check else boundary_loop(F)
+    if len(bnd) == len(V):
+        raise TopologyError(
+            "every vertex is on the boundary; the disk map needs an interior vertex (split the faces 1-to-4 first)"
+        )
     times["validate"] = time.perf_counter() - t0
 
     result = _map_on(V, F, bnd, F, None, times)

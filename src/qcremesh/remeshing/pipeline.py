@@ -51,7 +51,7 @@ from ..adaptive.landmarks import (
     cvt_landmarks,
     interpolate_on_boundary,
 )
-from ..adaptive.sizing import check_sizing, curvature_sizing
+from ..adaptive.sizing import check_sizing, curvature_sizing, hole_sizing
 from ..beltrami.coefficient import coherent_mu
 from ..beltrami.teichmuller import teichmuller_map
 from ..geometry.locate import interpolate_barycentric, locate_points
@@ -64,6 +64,8 @@ from ..mesh.topology import (
     boundary_edges,
     boundary_loop,
     boundary_loops,
+    connected_components,
+    duplicate_faces,
     genus,
     inconsistent_edges,
     needles_and_caps,
@@ -72,7 +74,7 @@ from ..mesh.topology import (
     orient_faces,
     unreferenced_vertices,
 )
-from ..mesh.validate import DegenerateFaceError, OrientationError, TopologyError
+from ..mesh.validate import DegenerateFaceError, MeshError, NonManifoldError, OrientationError, TopologyError
 from ..param.disk import disk_conformal_map
 from .min_quality import QUALITY_FLOOR
 from .relax import relax_on_surface
@@ -203,16 +205,21 @@ def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
 def _repair(V, F, data, sizing, stats):
     """The input made acceptable to the disk map where the validation refused it for
     what can be mended without moving the surface (more than 1e-3 of an edge): faces
-    turned against their neighbours are reversed (:func:`qcremesh.mesh.topology.orient_faces`,
+    listed more than once are kept once, faces turned against their neighbours are reversed (:func:`qcremesh.mesh.topology.orient_faces`,
     the majority's orientation kept), needles merged and caps flipped away
     (:func:`qcremesh.geometry.repair.repair_degenerate_faces`). Returns the new vertices,
     faces, per-vertex data and sizing field (of the vertices kept), counting what was done in
     ``stats``; None where nothing applies or another defect stands first (non-manifold
     edges or vertices, unreferenced vertices), which the validation then names."""
     n = len(V)
+    repaired = False
+    repeated = duplicate_faces(F)
+    if len(repeated):
+        F = np.delete(F, repeated, axis=0)
+        stats["duplicate_faces"] = len(repeated)
+        repaired = True
     if len(unreferenced_vertices(F, n)) or len(nonmanifold_edges(F)) or len(nonmanifold_vertices(F)):
         return None
-    repaired = False
     if len(inconsistent_edges(F)):
         try:
             F, turned = orient_faces(F)
@@ -253,7 +260,8 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     """:func:`remesh` of a surface of genus 0 that is not a disk (closed, or with
     holes): cut open into a disk (:func:`qcremesh.mesh.cut.cut_to_disk`), remeshed with a
     fixed boundary whose corners include the cuts' ends (so that the two sides of each
-    cut get the same vertices), and welded shut along the cuts
+    cut get the same vertices), with edges shortened around the holes shorter than a few
+    edges (:func:`qcremesh.adaptive.sizing.hole_sizing`), and welded shut along the cuts
     (:func:`qcremesh.mesh.cut.weld_cuts`). ``levels`` are welded each; ``uv``,
     ``disk_levels`` and ``mu`` stay those of the cut disk; ``repairs``, the stats of what
     :func:`_repair` mended first (the faces' orientation, which the cut needs to tell the
@@ -264,6 +272,13 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
         F_cut, parent, paths = cut_to_disk(V, F, len(V))
     except ValueError as error:
         raise TopologyError(f"cannot cut the surface open into a disk: {error}") from error
+    edge = np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * faces))
+    holes = hole_sizing(V, F, edge)
+    if holes.min() < 1:
+        if isinstance(sizing, str):
+            sizing = curvature_sizing(V, F, edge)
+        sizing = holes if sizing is None else np.minimum(sizing, holes)
+        repairs = dict(repairs, hole_sizing_min_ratio=float(holes.min()))
     cut_data = {k: np.asarray(v)[parent] for k, v in data.items()} if data else data
     cut_sizing = sizing if sizing is None or isinstance(sizing, str) else np.asarray(sizing)[parent]
     ends = np.array([path[[0, -1]] for path in paths])
@@ -282,6 +297,65 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     out_data = {k: np.asarray(v)[kept] for k, v in result.data.items()}
     stats = dict(repairs, **result.stats, cuts=len(paths), cut_vertices=int(sum(len(p) for p in paths)))
     return RemeshResult(Vo, Fo, result.uv, levels, out_data, result.disk_levels, result.mu, stats, result.times)
+
+
+def _remesh_pieces(V, F, label, count, faces, sizing, data, repairs, options):
+    """:func:`remesh` of a mesh in several connected pieces (``label`` (m,), the piece of
+    each face, 0..count-1): each piece remeshed on its own with a share of ``faces``
+    proportional to its area (at least 4), and the results joined.
+
+    The levels are those all pieces have, from the output down (a piece with fewer
+    levels than another starts the hierarchy at its own base mesh); the vertices are
+    numbered level by level, every piece's coarser ones first. ``uv``, ``disk_levels``,
+    ``mu`` and the stats are those of the largest piece (the one with the most output
+    faces), with ``stats["pieces"]`` and ``stats["piece_faces"]`` (each piece's output
+    faces); the times are summed."""
+    area = np.bincount(label, doublearea(V, F), count)
+    results = []
+    for k in range(count):
+        G = F[label == k]
+        used = np.unique(G)
+        index = np.full(len(V), -1, dtype=np.int64)
+        index[used] = np.arange(len(used))
+        share = max(int(round(faces * area[k] / area.sum())), 4)
+        piece_sizing = sizing if sizing is None or isinstance(sizing, str) else np.asarray(sizing)[used]
+        piece_data = {name: np.asarray(v)[used] for name, v in data.items()} if data else data
+        try:
+            results.append(remesh(V[used], index[G], share, sizing=piece_sizing, data=piece_data, **options))
+        except MeshError as error:
+            raise type(error)(f"piece {k + 1} of {count} ({len(G)} faces): {error}") from None
+    depth = min(len(r.levels) for r in results)
+    levels = [[r.levels[len(r.levels) - depth + i] for r in results] for i in range(depth)]
+    # Global numbering: level by level, piece by piece, the vertices new at that level.
+    counts = np.array([[len(X) for X, _ in level] for level in levels])  # (depth, count)
+    new = np.diff(np.vstack([np.zeros((1, count), dtype=np.int64), counts]), axis=0)
+    start = np.cumsum(np.r_[0, new.ravel()])[:-1].reshape(depth, count)
+    number = []
+    for k in range(count):
+        number.append(np.concatenate([start[i, k] + np.arange(new[i, k]) for i in range(depth)]))
+    total = int(counts[-1].sum())
+    joined = []
+    for i, level in enumerate(levels):
+        X = np.zeros((int(counts[i].sum()), 3))
+        for k, (Xk, _) in enumerate(level):
+            X[number[k][: len(Xk)]] = Xk
+        joined.append((X, np.concatenate([number[k][Gk] for k, (_, Gk) in enumerate(level)])))
+    out_data = {}
+    for name in results[0].data:
+        first = np.asarray(results[0].data[name])
+        values = np.zeros((total,) + first.shape[1:], dtype=first.dtype)
+        for k, r in enumerate(results):
+            values[number[k]] = r.data[name]
+        out_data[name] = values
+    largest = max(range(count), key=lambda k: len(results[k].F))
+    main = results[largest]
+    stats = dict(repairs, **main.stats, pieces=count, piece_faces=[len(r.F) for r in results])
+    times = {}
+    for r in results:
+        for name, t in r.times.items():
+            times[name] = times.get(name, 0.0) + t
+    V_out, F_out = joined[-1]
+    return RemeshResult(V_out, F_out, main.uv, joined, out_data, main.disk_levels, main.mu, stats, times)
 
 
 def remesh(
@@ -312,9 +386,11 @@ def remesh(
     ``fixed_boundary`` and the cuts' ends as ``corners`` (so that the two sides of each
     cut get the same vertices) and closed again (:func:`_remesh_cut`).
 
-    Where the validation refuses the input for faces turned against their neighbours, or
-    for needles and caps (faces of zero area or within rounding of it), these are mended
-    first, the surface kept: faces reversed to the majority's orientation
+    Where the validation refuses the input for faces listed more than once (which make
+    their edges non-manifold), faces turned against their neighbours, or for needles and
+    caps (faces of zero area or within rounding of it), these are mended first, the
+    surface kept: repeated faces kept once (``stats["duplicate_faces"]``), faces
+    reversed to the majority's orientation
     (``stats["reoriented_faces"]``), needles merged and caps flipped away
     (``stats["repaired_needles"]``, ``stats["repaired_caps"]``).
 
@@ -443,13 +519,23 @@ def remesh(
     try:
         try:
             dm = disk_conformal_map(V, F)
-        except (OrientationError, DegenerateFaceError) as error:
+        except (OrientationError, DegenerateFaceError, NonManifoldError) as error:
             repaired = _repair(V, F, data, sizing, stats)
             if repaired is None:
                 raise error
             V, F, data, sizing = repaired
             dm = disk_conformal_map(V, F)
     except TopologyError:
+        options = dict(
+            levels=levels, method=method, seed=seed, corner_angle=corner_angle, cvt_iterations=cvt_iterations,
+            relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries, progress=progress,
+        )
+        sizing = "curvature" if curvature else sizing
+        pieces, label = connected_components(F, len(V))
+        if pieces > 1 and np.bincount(F.ravel()).max() > 1:
+            if corners is not None and len(corners):
+                raise ValueError("corners are taken only on a disk")
+            return _remesh_pieces(V, F, label, pieces, faces, sizing, data, stats, options)
         # Not a disk: a surface of genus 0 is cut open, remeshed and welded.
         g = genus(F, len(V))
         if g is None:
@@ -462,13 +548,29 @@ def remesh(
                 f"{kind} of genus {g}{holes} (Euler characteristic {2 - 2 * g - loops}); "
                 "remesh takes surfaces of genus 0: disks, disks with holes, closed surfaces"
             ) from None
+        loops = boundary_loops(F)
+        if len(loops) == 1 and len(loops[0]) == len(V):
+            # A disk with every vertex on its boundary (a strip or fan of triangles), which
+            # the disk map cannot take: the same surface split 1-to-4 until it has an
+            # interior vertex.
+            fields = [V] + [np.reshape(v, (len(V), -1)) for v in (data or {}).values()]
+            fields += [] if sizing is None or isinstance(sizing, str) else [np.reshape(sizing, (-1, 1))]
+            X, F_fine = np.column_stack(fields), F
+            while len(boundary_loop(F_fine)) == len(np.unique(F_fine)):
+                X, F_fine = upsample(X, F_fine, 1)
+            parts = np.split(X, np.cumsum([f.shape[1] for f in fields])[:-1], axis=1)
+            V_fine = parts.pop(0)
+            fine_data = {k: p.reshape((len(X),) + np.shape(v)[1:]) for (k, v), p in zip((data or {}).items(), parts)}
+            fine_sizing = parts[-1][:, 0] if len(parts) > len(fine_data) else sizing
+            result = remesh(
+                V_fine, F_fine, faces, sizing=fine_sizing, fixed_boundary=fixed_boundary, corners=corners,
+                data=fine_data if data else data, **options,
+            )
+            result.stats.update(stats, subdivided_input=True)
+            return result
         if corners is not None and len(corners):
             raise ValueError("corners are taken only on a disk")
-        options = dict(
-            levels=levels, method=method, seed=seed, corner_angle=corner_angle, cvt_iterations=cvt_iterations,
-            relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries, progress=progress,
-        )
-        return _remesh_cut(V, F, faces, "curvature" if curvature else sizing, data, stats, options)
+        return _remesh_cut(V, F, faces, sizing, data, stats, options)
     stats.update(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces
     )
