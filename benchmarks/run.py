@@ -40,6 +40,8 @@ import threading
 import time
 from pathlib import Path
 
+import numpy as np
+
 import qcremesh
 import report
 from qcremesh.mesh import topology
@@ -105,9 +107,18 @@ def read_quietly(path):
         return qcremesh.read_mesh(path)
 
 
+def piece_genera(F, n):
+    """Genus of each connected piece of the faces kept once (None for a piece that is not
+    a manifold surface), as qcremesh's remesh takes them: every one 0, or no remesh."""
+    F = np.delete(F, topology.duplicate_faces(F), axis=0)
+    count, label = topology.connected_components(F, n)
+    return [topology.genus(F[label == k]) for k in range(count)]
+
+
 def inventory(folder, names):
     """Readable meshes of the folder, each once (a file with the same vertices and faces as
-    an earlier one is skipped), and whether each is a disk. Returns (meshes, skipped)."""
+    an earlier one is skipped), whether each is a disk, and the genus of each piece.
+    Returns (meshes, skipped)."""
     # MATLAB files last: a mesh that is also there in a common format goes by that name.
     if names:
         paths = [folder / name for name in names]
@@ -141,7 +152,7 @@ def inventory(folder, names):
                 "vertices": len(V),
                 "faces": len(F),
                 "not_disk": not_disk,
-                "genus": topology.genus(F, len(V)),
+                "genus": piece_genera(F, len(V)),
             }
         )
     meshes.sort(key=lambda m: m["faces"])
@@ -292,8 +303,8 @@ def previous_lengths(out):
 
 def remesh_rows(meshes, args):
     """Every remesher on every mesh at its face count and at half; qcremesh remeshes
-    surfaces of genus 0 only (disks, with holes or closed), so the other meshes get a
-    skipped row with the reason instead of a job."""
+    surfaces of genus 0 only (disks, with holes or closed, in one or several pieces), so
+    the other meshes get a skipped row with the reason instead of a job."""
     rows = []
     lengths = previous_lengths(args.out)
     for m in meshes:
@@ -303,9 +314,10 @@ def remesh_rows(meshes, args):
                 start = lengths.get((tool, m["mesh"], m["faces"], job["faces"]))
                 if start is not None:
                     job["start"] = start
-                if tool == "qcremesh" and m["genus"] != 0:
-                    why = m["not_disk"] if m["genus"] is None else f"genus {m['genus']}"
-                    reason = f"not one surface of genus 0: {why}"
+                if tool == "qcremesh" and any(g != 0 for g in m["genus"]):
+                    g = next(g for g in m["genus"] if g != 0)
+                    why = m["not_disk"] if g is None else f"genus {g}"
+                    reason = f"not of genus 0: {why}"
                     rows.append(dict(job, status="skipped", reason=reason))
                 else:
                     rows.append(run_job(job, args))
