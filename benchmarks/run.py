@@ -109,7 +109,7 @@ def read_quietly(path):
 
 def piece_genera(F, n):
     """Genus of each connected piece of the faces kept once (None for a piece that is not
-    a manifold surface), as qcremesh's remesh takes them: every one 0, or no remesh."""
+    a manifold surface), as qcremesh's remesh takes them: none None, or no remesh."""
     F = np.delete(F, topology.duplicate_faces(F), axis=0)
     count, label = topology.connected_components(F, n)
     return [topology.genus(F[label == k]) for k in range(count)]
@@ -303,8 +303,8 @@ def previous_lengths(out):
 
 def remesh_rows(meshes, args):
     """Every remesher on every mesh at its face count and at half; qcremesh remeshes
-    surfaces of genus 0 only (disks, with holes or closed, in one or several pieces), so
-    the other meshes get a skipped row with the reason instead of a job."""
+    manifold surfaces only (after dropping repeated faces), so the other meshes get a
+    skipped row with the reason instead of a job."""
     rows = []
     lengths = previous_lengths(args.out)
     for m in meshes:
@@ -314,10 +314,8 @@ def remesh_rows(meshes, args):
                 start = lengths.get((tool, m["mesh"], m["faces"], job["faces"]))
                 if start is not None:
                     job["start"] = start
-                if tool == "qcremesh" and any(g != 0 for g in m["genus"]):
-                    g = next(g for g in m["genus"] if g != 0)
-                    why = m["not_disk"] if g is None else f"genus {g}"
-                    reason = f"not of genus 0: {why}"
+                if tool == "qcremesh" and None in m["genus"]:
+                    reason = f"not manifold surfaces: {m['not_disk']}"
                     rows.append(dict(job, status="skipped", reason=reason))
                 else:
                     rows.append(run_job(job, args))

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from conftest import DATA, grid_disk, holed_disk, shared, sphere_mesh, star_disk, strip_disk, torus_mesh, tube_disk
+from conftest import DATA, grid_disk, holed_disk, shared, sphere_mesh, star_disk, strip_disk, tube_disk
 from qcremesh.geometry.distance import point_mesh_distance
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
 from qcremesh.mesh.io import read_mesh
@@ -319,8 +319,6 @@ def test_pieces_are_remeshed_each_and_joined():
             assert np.all((children == Fc[:, c][:, None, None]).any(axis=(1, 2)))
         np.testing.assert_array_equal(Vf[: len(Vc)], Vc)
     np.testing.assert_array_equal(r.levels[-1][1], r.F)
-    with pytest.raises(MeshError, match=r"^piece 2 of 2 \(576 faces\): closed surface of genus 1"):
-        remesh(np.r_[V1, torus_mesh()[0] + 5], np.r_[F1, torus_mesh()[1] + len(V1)], 3000)
 
 
 def test_a_triangle_soup_is_refused():

@@ -98,7 +98,7 @@ def _point_at(P, s, x):
     return np.column_stack([np.interp(x, s, closed[:, k]) for k in range(P.shape[1])])
 
 
-def boundary_corners(V, bnd, angle=45.0, scale=None):
+def boundary_corners(V, bnd, angle=45.0, scale=None, pieces=None):
     """Boundary vertices where the boundary turns by more than ``angle`` degrees.
 
     The turning angle at b_i is the angle between the chords from the boundary point at
@@ -109,7 +109,10 @@ def boundary_corners(V, bnd, angle=45.0, scale=None):
     quarter of it: a corner is sharp, while a smooth border sampled coarsely (a few
     landmarks around a loop) turns by 360 / count degrees per landmark without any. Of
     the vertices above the threshold, the sharpest are kept first, and then only those at
-    least ``scale / 2`` along the boundary from a kept one.
+    least ``scale / 2`` along the boundary from a kept one. With ``pieces``, positions in
+    ``bnd`` that split the boundary, the chords stop at them: a vertex is measured within
+    its piece alone, so two pieces along the same polyline (the two sides of a cut) get
+    the same corners whatever lies beyond their ends.
 
     Returns
     -------
@@ -120,11 +123,19 @@ def boundary_corners(V, bnd, angle=45.0, scale=None):
     s = _arc_length(P)
     perimeter = s[-1]
 
+    lo, hi = s[:-1] - perimeter, s[:-1] + perimeter
+    if pieces is not None and len(pieces):
+        cuts = np.sort(np.asarray(pieces, dtype=np.int64))
+        k = np.searchsorted(cuts, np.arange(len(P)), side="right") - 1
+        lo = np.where(k >= 0, s[cuts[k]], s[cuts[-1]] - perimeter)
+        hi = np.where(k + 1 < len(cuts), s[cuts[np.minimum(k + 1, len(cuts) - 1)]], s[cuts[0]] + perimeter)
+
     def turning(h):
         if h is None:
             before, after = np.roll(P, 1, axis=0), np.roll(P, -1, axis=0)
         else:
-            before, after = _point_at(P, s, s[:-1] - h / 2), _point_at(P, s, s[:-1] + h / 2)
+            before = _point_at(P, s, np.maximum(s[:-1] - h / 2, lo))
+            after = _point_at(P, s, np.minimum(s[:-1] + h / 2, hi))
         a, b = P - before, after - P
         cos = (a * b).sum(1) / np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
         return np.degrees(np.arccos(np.clip(cos, -1, 1)))
@@ -227,7 +238,8 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
         Landmarks per unit length at the boundary vertices, relative to each other.
     corners : (c,) int, optional
         Positions in ``bnd`` that are corners whatever the boundary's turn there; the
-        corners found within half a spacing of one are dropped.
+        others are found within the pieces between them (see :func:`boundary_corners`),
+        and those within half a spacing of one dropped.
     smooth : bool
 
     Returns
@@ -239,7 +251,7 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     theta_b = boundary_angles(uv, bnd)
     P = np.asarray(V, dtype=np.float64)[bnd]
     scale = _arc_length(P)[-1] / max(count, 3)
-    found = boundary_corners(V, bnd, corner_angle, scale=scale)
+    found = boundary_corners(V, bnd, corner_angle, scale=scale, pieces=corners)
     sigma = smoothed_arc_length(P, scale if smooth else 0.0, density)
     if corners is not None and len(corners):
         corners = np.unique(np.asarray(corners, dtype=np.int64))

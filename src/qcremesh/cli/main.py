@@ -6,8 +6,9 @@
     ``f a/a b/b c/c``.
 
 ``qcremesh remesh INPUT -o OUTPUT [--faces N] [--levels L] [--method M] [--seed S] [--relax K] [--sizing S] [--report DIR]``
-    Quasi-conformal remeshing (Algorithm 2 and projection) of a disk, or of a closed
-    surface of genus 0 (cut open, remeshed and welded); the output format follows the
+    Quasi-conformal remeshing (Algorithm 2 and projection) of a disk, or of any manifold
+    surface (with holes, closed, with handles: cut open, remeshed and welded; one piece
+    or several); the output format follows the
     extension. ``--sizing curvature`` grades the edges by the surface's bending,
     ``--sizing NAME`` by a per-vertex array of the input (relative edge lengths).
 
@@ -99,7 +100,7 @@ def _parser():
 
     r = sub.add_parser(
         "remesh",
-        help="remesh a disk or a closed surface of genus 0 into a regular mesh",
+        help="remesh a manifold surface (disk, holes, closed, handles; one piece or several) into a regular mesh",
         description="Quasi-conformal remeshing (Algorithm 2) with projection onto the input surface.",
     )
     r.add_argument("input", help="triangle mesh (OBJ, PLY, OFF, STL, VTK, .mat, ...)")

@@ -1,14 +1,26 @@
-"""Cutting a triangle mesh open along a path of its edges."""
+"""Cutting a triangle mesh open into a disk along its edges, and welding it shut again."""
 
 from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components, dijkstra
+from scipy.sparse.csgraph import connected_components, dijkstra, minimum_spanning_tree
+from scipy.spatial import cKDTree
 
-from .topology import _edge_keys, boundary_loops, half_edges, twin_half_edges
+from .topology import (
+    _edge_keys,
+    _keys_to_edges,
+    boundary_edges,
+    boundary_loops,
+    corner_fans,
+    euler_characteristic,
+    genus,
+    half_edges,
+    twin_half_edges,
+    unique_integers,
+)
 
-__all__ = ["cut_along_path", "cut_to_disk", "shortest_edge_path", "weld_cuts"]
+__all__ = ["cut_along_edges", "cut_to_disk", "shortest_edge_path", "weld_cut"]
 
 
 def shortest_edge_path(V, F, source, target):
@@ -35,95 +47,79 @@ def shortest_edge_path(V, F, source, target):
     return np.array(path[::-1], dtype=np.int64)
 
 
-def cut_along_path(F, path, n=None):
-    """Cut a mesh open along a simple path of its edges: every vertex of the path that the
-    path splits the faces around into two fans (its interior vertices, and an end on the
-    boundary) gets a copy, which the faces on one side of the path take, so that the path
-    becomes two boundary arcs.
+def cut_along_edges(F, cut, n=None):
+    """Cut a mesh open along a set of its interior edges (libigl's ``cut_mesh``).
 
-    The faces around the copied vertices fall into two sides, connected through their
-    shared edges but for the path's own; the side with the face that has the path's
-    first edge counter-clockwise takes the copies. On a closed surface of genus 0, a path
-    between two vertices cuts it into a disk (a slit sphere; its two ends, interior
-    vertices, stay one vertex each); a path between two boundary loops joins them into
-    one.
+    Around every vertex, its faces fall into fans separated by the cut edges (and the
+    boundary) (:func:`qcremesh.mesh.topology.corner_fans`); the fan with the vertex's
+    first corner keeps the vertex, every other fan gets a copy of it. A path between two
+    interior vertices becomes a slit (its ends stay one vertex each), a path from the
+    boundary to the boundary two boundary arcs, a closed loop two loops.
 
     Parameters
     ----------
     F : (m, 3) int
-    path : (k,) int
-        Distinct vertices, consecutive ones joined by an interior edge of ``F``, k >= 2.
+    cut : (k, 2) int
+        Interior edges of ``F``, either way round.
     n : int, optional
         Number of vertices (``F.max() + 1`` by default).
 
     Returns
     -------
     F_cut : (m, 3) int64
-        The faces, on the vertices 0..n-1 and the copies n, n+1, ... of the copied
-        vertices of ``path``, in its order.
+        The faces, on the vertices 0..n-1 and the copies n, n+1, ...
     parent : (n + c,) int64
         The vertex of ``F`` each vertex of ``F_cut`` is (itself or the one it copies).
 
     Raises
     ------
     ValueError
-        Where the path repeats a vertex, leaves the edges of ``F``, runs along the
-        boundary, or does not split the faces around it into two sides.
+        Where a cut edge is not an edge of ``F`` or lies on its boundary.
     """
     F = np.asarray(F, dtype=np.int64)
-    path = np.asarray(path, dtype=np.int64)
     n = int(F.max()) + 1 if n is None else int(n)
-    if len(path) < 2 or len(np.unique(path)) != len(path):
-        raise ValueError("the cut path must have at least 2 distinct vertices and repeat none")
     m = len(F)
-    H = half_edges(F)
-    keys = _edge_keys(H, n)
-    path_keys = _edge_keys(np.column_stack([path[:-1], path[1:]]), n)
-    on_path = np.isin(keys, path_keys)
-    if len(np.unique(keys[on_path])) != len(path_keys):
-        raise ValueError("the cut path leaves the edges of the mesh")
+    keys = _edge_keys(half_edges(F), n)
+    cut_keys = unique_integers(_edge_keys(np.asarray(cut, dtype=np.int64).reshape(-1, 2), n))
+    if np.isin(cut_keys, keys, invert=True).any():
+        raise ValueError("the cut leaves the edges of the mesh")
     i, j = twin_half_edges(F)
-    if np.isin(path_keys, keys[i], invert=True).any():
-        raise ValueError("the cut path runs along the boundary")
-    single = np.ones(len(H), dtype=bool)
-    single[i] = single[j] = False
-    on_boundary = np.zeros(n, dtype=bool)
-    on_boundary[H[single].ravel()] = True
-    copied = np.r_[False, np.ones(len(path) - 2, dtype=bool), False] | on_boundary[path]
-    cut = np.zeros(n, dtype=bool)
-    cut[path[copied]] = True
-    touching = cut[F].any(1)
-    # The faces around the copied vertices, joined across the edges that are not the path's.
-    fi, fj = i % m, j % m
-    keep = touching[fi] & touching[fj] & ~on_path[i]
-    G = sp.csr_matrix((np.ones(int(keep.sum())), (fi[keep], fj[keep])), shape=(m, m))
-    _, label = connected_components(G, directed=False)
-    sides = np.unique(label[touching])
-    if copied.any() and len(sides) != 2:
-        raise ValueError(f"the cut path splits the faces around it into {len(sides)} sides, not 2")
-    # The face with the path's first edge counter-clockwise (path[0] -> path[1]).
-    first = np.flatnonzero((H[:, 0] == path[0]) & (H[:, 1] == path[1]))
-    if len(first) != 1:
-        raise ValueError("the cut path leaves the edges of the mesh")
-    copy_side = touching & (label == label[first[0] % m])
-    copy = np.full(n, -1, dtype=np.int64)
-    copy[path[copied]] = n + np.arange(int(copied.sum()))
-    F_cut = F.copy()
-    sub = F_cut[copy_side]
-    F_cut[copy_side] = np.where(cut[sub], copy[sub], sub)
-    parent = np.r_[np.arange(n), path[copied]]
-    return F_cut, parent
+    if np.isin(cut_keys, keys[i], invert=True).any():
+        raise ValueError("the cut runs along the boundary")
+    linked = np.isin(keys[i], cut_keys, invert=True)
+    _, fan = corner_fans(F, (i[linked], j[linked]))
+    corner_vertex = F.T.ravel()
+    # the first corner of each fan (the fans are numbered in order of first corner)
+    _, first = np.unique(fan, return_index=True)
+    fan_vertex = corner_vertex[first]
+    order = np.lexsort((first, fan_vertex))
+    by_vertex = fan_vertex[order]
+    keeps = np.r_[True, by_vertex[1:] != by_vertex[:-1]]
+    number = np.empty(len(first), dtype=np.int64)
+    number[order[keeps]] = by_vertex[keeps]
+    copies = order[~keeps]
+    number[copies] = n + np.arange(len(copies))
+    return number[fan].reshape(3, m).T.copy(), np.r_[np.arange(n), fan_vertex[copies]]
 
 
 def cut_to_disk(V, F, n=None):
-    """Cut a connected manifold surface of genus 0 that is not a disk open into one.
+    """Cut a connected manifold surface that is not a disk open into one.
 
-    A closed surface is cut along the shortest edge path between its two vertices
-    farthest apart along its principal axis (a slit); a surface with several boundary
-    loops along one shortest edge path from each loop but the longest to the longest,
-    through interior vertices that no other cut takes (:func:`cut_along_path`, which
-    joins the two loops into one). Each cut adds one to the Euler characteristic, so the
-    result, with one boundary loop and characteristic 1, is a disk.
+    The cut is a set of edges:
+
+    * the handles (genus g > 0): the 2g loops of a tree-cotree decomposition
+      (Eppstein; Erickson & Whittlesey's greedy system of loops), on the surface with
+      each boundary loop capped by a cone; each is a shortest path tree's two paths from
+      a vertex near the centroid to the ends of an edge, the edges left out of the
+      tree and of a maximum spanning tree of the dual weighted by the length of their
+      loop; the cones' edges are kept out of the loops, the original boundary edges
+      dropped from them (a loop through a cap becomes an arc from the boundary to the
+      boundary), and dangling paths pruned;
+    * then, where the surface has several boundary loops (the holes, and those the
+      handles' cut made), one shortest edge path from each to the longest, through
+      interior vertices that no other cut takes;
+    * a closed surface of genus 0: the shortest edge path between its two vertices
+      farthest apart along its principal axis (a slit).
 
     Parameters
     ----------
@@ -135,33 +131,118 @@ def cut_to_disk(V, F, n=None):
     Returns
     -------
     F_cut : (m, 3) int64
+        A disk.
     parent : (n + c,) int64
         The vertex of ``F`` each vertex of ``F_cut`` is.
-    paths : list of (k,) int64
-        Each cut, as vertices of ``F`` from its first end (the principal axis's low end, a
-        vertex of a shorter loop) to its last (the high end, a vertex of the longest loop).
+    cut : (k, 2) int64
+        The edges cut, as vertices of ``F``.
 
     Raises
     ------
     ValueError
-        Where no path of interior vertices joins a loop to the longest.
+        Where no path of interior vertices joins a loop to the longest, or the cut does
+        not give a disk.
     """
     V = np.asarray(V, dtype=np.float64)
     F = np.asarray(F, dtype=np.int64)
     n = len(V) if n is None else int(n)
-    loops = boundary_loops(F)
+    g = genus(F, n)
+    if g is None:
+        raise ValueError("not one manifold surface")
+    cut = _handle_loops(V, F, n, g) if g > 0 else np.zeros((0, 2), dtype=np.int64)
+    F_cut, parent = cut_along_edges(F, cut, n) if len(cut) else (F, np.arange(n))
+    loops = boundary_loops(F_cut)
     if not loops:
         centred = V - V.mean(0)
         axis = np.linalg.svd(centred[:: max(1, n // 20000)], full_matrices=False)[2][0]
         along = centred @ axis
-        paths = [shortest_edge_path(V, F, int(np.argmin(along)), int(np.argmax(along)))]
+        path = shortest_edge_path(V, F, int(np.argmin(along)), int(np.argmax(along)))
+        paths = [path]
     else:
-        paths = _paths_between_loops(V, F, n, loops)
-    F_cut, parent = F, np.arange(n)
-    for path in paths:
-        F_cut, more = cut_along_path(F_cut, path, len(parent))
-        parent = parent[more]
-    return F_cut, parent, paths
+        paths = _paths_between_loops(V[parent], F_cut, len(parent), loops)
+    more = np.concatenate([np.column_stack([p[:-1], p[1:]]) for p in paths]) if paths else np.zeros((0, 2), int)
+    if len(more):
+        F_cut, again = cut_along_edges(F_cut, more, len(parent))
+        cut = np.r_[cut, parent[more]]
+        parent = parent[again]
+    if len(boundary_loops(F_cut)) != 1 or euler_characteristic(F_cut) != 1:
+        raise ValueError("the cut does not open the surface into a disk")
+    return F_cut, parent, cut
+
+
+def _handle_loops(V, F, n, g):
+    """The edges of a system of 2 ``g`` loops cutting the handles (see :func:`cut_to_disk`)."""
+    loops = boundary_loops(F)
+    # Each boundary loop capped by a cone on a vertex of its own, n + k.
+    cones = [np.column_stack([loop, np.roll(loop, -1), np.full(len(loop), n + k)]) for k, loop in enumerate(loops)]
+    C = np.concatenate([F] + [c[:, ::-1] for c in cones]) if cones else F
+    total = n + len(loops)
+    P = np.r_[V, [V[loop].mean(0) for loop in loops]] if loops else V
+    H = half_edges(C)
+    keys = _edge_keys(H, total)
+    E = _keys_to_edges(unique_integers(keys), total)
+    length = np.linalg.norm(P[E[:, 0]] - P[E[:, 1]], axis=1)
+    on_cone = E[:, 1] >= n
+    on_border = np.zeros(len(E), dtype=bool)
+    if loops:
+        border = _edge_keys(boundary_edges(F), total)
+        on_border = np.isin(E[:, 0] * total + E[:, 1], border)
+    # Shortest path tree from the vertex nearest the centroid; the cones only last (a
+    # cone's vertex is then a leaf, which no tree path crosses).
+    big = length.sum() + 1.0
+    weight = length + big * on_cone + big * on_border
+    G = sp.csr_matrix((weight, (E[:, 0], E[:, 1])), shape=(total, total))
+    root = int(np.argmin(np.linalg.norm(V - V.mean(0), axis=1)))
+    dist, previous = dijkstra(G, directed=False, indices=root, return_predecessors=True)
+    child = np.flatnonzero(previous >= 0)
+    tree_keys = _edge_keys(np.column_stack([child, previous[child]]), total)
+    in_tree = np.isin(E[:, 0] * total + E[:, 1], tree_keys)
+    # Dual: faces joined across the edges out of the tree, a maximum spanning tree of the
+    # length of the edges' loops (the cones' and borders' edges first).
+    m = len(C)
+    i, j = twin_half_edges(C)
+    pair_keys = keys[i]
+    index = np.searchsorted(E[:, 0] * total + E[:, 1], pair_keys)
+    out = ~in_tree[index]
+    loop_length = dist[E[:, 0]] + dist[E[:, 1]] + length
+    priority = np.where(on_cone | on_border, 0.0, loop_length.max() + 1.0 - loop_length) + 1.0
+    D = sp.csr_matrix((priority[index[out]], (i[out] % m, j[out] % m)), shape=(m, m))
+    cotree = minimum_spanning_tree(D).tocoo()
+    cotree_keys = _edge_keys(np.column_stack([cotree.row, cotree.col]), m)
+    face_pairs = _edge_keys(np.column_stack([i % m, j % m]), m)
+    in_cotree = np.zeros(len(E), dtype=bool)
+    in_cotree[index[np.isin(face_pairs, cotree_keys)]] = True
+    left = np.flatnonzero(~in_tree & ~in_cotree)
+    if len(left) != 2 * g:
+        raise ValueError(f"the tree-cotree decomposition leaves {len(left)} edges, not {2 * g}")
+    cut = []
+    for e in left:
+        for end in E[e]:
+            v = int(end)
+            while previous[v] >= 0:
+                cut.append((v, int(previous[v])))
+                v = int(previous[v])
+        cut.append(tuple(E[e]))
+    cut = np.array(cut, dtype=np.int64)
+    cut = _keys_to_edges(unique_integers(_edge_keys(cut, total)), total)
+    # out of the caps, off the border
+    cut = cut[(cut[:, 1] < n) & np.isin(cut[:, 0] * total + cut[:, 1], border if loops else [], invert=True)]
+    return _prune(cut, n, np.unique(np.concatenate(loops)) if loops else np.zeros(0, dtype=np.int64))
+
+
+def _prune(cut, n, boundary):
+    """Edges of ``cut`` left once its dangling paths (ending at an interior vertex of no
+    other cut edge) are removed, repeatedly."""
+    keep = np.ones(len(cut), dtype=bool)
+    on_boundary = np.zeros(n, dtype=bool)
+    on_boundary[boundary] = True
+    while True:
+        degree = np.bincount(cut[keep].ravel(), minlength=n)
+        loose = (degree == 1) & ~on_boundary
+        drop = keep & loose[cut].any(1)
+        if not drop.any():
+            return cut[keep]
+        keep &= ~drop
 
 
 def _paths_between_loops(V, F, n, loops):
@@ -186,7 +267,9 @@ def _paths_between_loops(V, F, n, loops):
         )
         ends = loops[0][~used[loops[0]]]
         if not len(ends) or not np.isfinite(dist[ends]).any():
-            raise ValueError(f"no path of free interior vertices joins boundary loop {k} to the longest")
+            raise ValueError(
+                f"no path through interior vertices joins a boundary loop of {len(loops[k])} edges to the longest one"
+            )
         end = int(ends[np.argmin(dist[ends])])
         path = [end]
         while path[-1] != source[end]:
@@ -197,72 +280,54 @@ def _paths_between_loops(V, F, n, loops):
     return paths
 
 
-def weld_cuts(X, F, ends, tol):
-    """Close a disk mesh cut open by :func:`cut_to_disk` again: along each cut, the
-    boundary vertices on its two sides are merged pairwise, at their midpoint.
 
-    The disk's boundary loop runs along each cut twice, in opposite directions: from a
-    vertex at its last end (on the longest loop, or the slit's high end) along one side
-    to a vertex at its first end, around what the cut joined (the shorter loop; nothing
-    for a slit, whose first end is one vertex), and back along the other side to a vertex
-    at its last end. The ends are found as the boundary vertices within ``tol`` of them.
+
+def weld_cut(X, F, segments, tol):
+    """Close a disk mesh made by remeshing a surface cut open by :func:`cut_to_disk`: its
+    boundary vertices on the cut (within ``tol`` of one of its edges) that lie within
+    ``tol`` of each other (a vertex on one side of the cut and its twin on the other;
+    the copies of a branch point of the cut) are merged, at their mean.
 
     Parameters
     ----------
     X : (k, 3) float
     F : (l, 3) int
-        A disk.
-    ends : (c, 2, 3) float
-        The first and last end of each cut (the points of ``paths[i][[0, -1]]``).
+    segments : (s, 2, 3) float
+        The cut's edges.
     tol : float
 
     Returns
     -------
     X : (k', 3) float
-        The vertices kept, a merged pair at its midpoint.
+        The vertices kept.
     F : (l, 3) int64
     kept : (k',) int64
         The index in ``X`` of each vertex kept.
-
-    Raises
-    ------
-    ValueError
-        Where the boundary has not one or two vertices at an end of a cut, or the two
-        sides of a cut differ in their number of vertices or lie farther apart.
     """
     X = np.asarray(X, dtype=np.float64)
-    loop = boundary_loops(F)[0]
-    b = len(loop)
-    side, twin = [], []
-    for first, last in np.asarray(ends, dtype=np.float64):
-        at_first = np.flatnonzero(np.linalg.norm(X[loop] - first, axis=1) <= tol)
-        at_last = np.flatnonzero(np.linalg.norm(X[loop] - last, axis=1) <= tol)
-        if not 1 <= len(at_first) <= 2 or len(at_first) != len(at_last):
-            raise ValueError(
-                f"the boundary has {len(at_first)} and {len(at_last)} vertices at the ends of a cut, not 1 or 2 each"
-            )
-        # One side runs from a vertex at the last end to the next vertex at the first,
-        # the other from the vertex at the first end before the next one at the last.
-        start = at_last[0]
-        if len(at_last) == 2 and (at_last[1] - start) % b < ((at_first - start) % b).min():
-            start = at_last[1]
-        ahead = np.sort((at_first - start) % b)
-        behind = np.sort((at_last - start) % b)[-1] if len(at_last) == 2 else b
-        length = ahead[0]
-        if behind - ahead[-1] != length:
-            raise ValueError(f"the two sides of a cut have {length - 1} and {behind - ahead[-1] - 1} vertices")
-        t = np.arange(length + 1)
-        side.append(loop[(start + t) % b])
-        twin.append(loop[(start + behind - t) % b])
-    side, twin = np.concatenate(side), np.concatenate(twin)
-    gap = np.linalg.norm(X[side] - X[twin], axis=1).max()
-    if gap > tol:
-        raise ValueError(f"the two sides of a cut are {gap:.3g} apart, more than {tol:.3g}")
+    F = np.asarray(F, dtype=np.int64)
+    segments = np.asarray(segments, dtype=np.float64).reshape(-1, 2, 3)
+    border = unique_integers(boundary_edges(F))
+    a, b = segments[:, 0], segments[:, 1]
+    reach = np.linalg.norm(b - a, axis=1).max() / 2 + tol if len(segments) else 0.0
+    near = cKDTree((a + b) / 2).query_ball_point(X[border], reach) if len(segments) else [[]] * len(border)
+    count = np.array([len(c) for c in near])
+    point = np.repeat(border, count)
+    seg = np.concatenate([np.asarray(c, dtype=np.int64) for c in near]) if count.sum() else np.zeros(0, np.int64)
+    d = b[seg] - a[seg]
+    t = np.clip(((X[point] - a[seg]) * d).sum(1) / np.maximum((d * d).sum(1), 1e-300), 0.0, 1.0)
+    on_cut = unique_integers(point[np.linalg.norm(a[seg] + t[:, None] * d - X[point], axis=1) <= tol])
+    pairs = cKDTree(X[on_cut]).query_pairs(tol, output_type="ndarray")
+    G = sp.csr_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(on_cut),) * 2)
+    groups, group = connected_components(G, directed=False)
+    first = np.full(groups, len(X), dtype=np.int64)
+    np.minimum.at(first, group, on_cut)
+    total = np.zeros((groups, 3))
+    np.add.at(total, group, X[on_cut])
     X = X.copy()
-    X[side] = (X[side] + X[twin]) / 2
+    X[first] = total / np.bincount(group, minlength=groups)[:, None]
     target = np.arange(len(X))
-    target[twin] = side
-    keep = np.ones(len(X), dtype=bool)
-    keep[twin[twin != side]] = False
+    target[on_cut] = first[group]
+    keep = target == np.arange(len(X))
     new = np.cumsum(keep) - 1
-    return X[keep], new[target[np.asarray(F)]], np.flatnonzero(keep)
+    return X[keep], new[target[F]], np.flatnonzero(keep)

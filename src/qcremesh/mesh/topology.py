@@ -24,6 +24,7 @@ __all__ = [
     "genus",
     "nonmanifold_edges",
     "nonmanifold_vertices",
+    "corner_fans",
     "inconsistent_edges",
     "orient_faces",
     "unreferenced_vertices",
@@ -273,8 +274,8 @@ def nonmanifold_vertices(F, twins=None):
     Around a vertex v, two incident faces are linked when they share an edge through v.
     The vertex is manifold when those links connect all its faces into one fan. The fans
     are counted for all vertices at once as connected components of a graph on the corners
-    (face, vertex) pairs. Vertices on non-manifold edges are reported by
-    :func:`nonmanifold_edges` and are not repeated here unless they also pinch.
+    (face, vertex) pairs (:func:`corner_fans`). Vertices on non-manifold edges are reported
+    by :func:`nonmanifold_edges` and are not repeated here unless they also pinch.
     ``twins``, the pairs of :func:`twin_half_edges` where already computed, spares their
     sort.
 
@@ -284,10 +285,35 @@ def nonmanifold_vertices(F, twins=None):
     """
     F = np.asarray(F)
     m = len(F)
-    corner_vertex = F.T.ravel()  # corner c = k * m + f is vertex F[f, k]
+    corner_vertex = F.T.ravel()
+    fans, fan = corner_fans(F, twins)
+    # Every fan has the corners of one vertex: as many fans as vertices, none pinched.
+    if fans == np.count_nonzero(np.bincount(corner_vertex)):
+        return np.zeros(0, dtype=np.int64)
+    pairs = unique_integers(corner_vertex.astype(np.int64) * (3 * m) + fan)
+    # the (vertex, fan) pairs are sorted by vertex: a vertex with two or more is pinched
+    v = pairs // (3 * m)
+    return unique_integers(v[1:][v[1:] == v[:-1]])
+
+
+def corner_fans(F, twins=None):
+    """The fans of faces around the vertices, as a label per corner.
+
+    Corner c = k * m + f is vertex ``F[f, k]`` of face f. Two corners of the same vertex
+    are in one fan when their faces share an edge through it, one of the pairs ``twins``
+    of half-edges (:func:`twin_half_edges` by default: every interior edge; a subset
+    leaves the others open, as a cut does).
+
+    Returns
+    -------
+    count : int
+    fan : (3 m,) int
+        The fan of each corner, 0..count-1.
+    """
+    F = np.asarray(F)
+    m = len(F)
     # Half-edge h = k * m + f of half_edges(F) leaves the vertex of corner h and enters
-    # that of corner next(h) = ((k + 1) % 3) * m + f; the half-edges of one edge are
-    # consecutive once sorted by edge key.
+    # that of corner next(h) = ((k + 1) % 3) * m + f.
     H = half_edges(F)
     i, j = _edge_pairs(_edge_keys(H, int(F.max()) + 1)) if twins is None else twins
 
@@ -301,14 +327,7 @@ def nonmanifold_vertices(F, twins=None):
     rows = np.r_[i, entering(i)]
     cols = np.r_[u1, u2]
     G = sp.coo_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(3 * m, 3 * m))
-    fans, fan = _cc(G, directed=False)
-    # Every fan has the corners of one vertex: as many fans as vertices, none pinched.
-    if fans == np.count_nonzero(np.bincount(corner_vertex)):
-        return np.zeros(0, dtype=np.int64)
-    pairs = unique_integers(corner_vertex.astype(np.int64) * (3 * m) + fan)
-    # the (vertex, fan) pairs are sorted by vertex: a vertex with two or more is pinched
-    v = pairs // (3 * m)
-    return unique_integers(v[1:][v[1:] == v[:-1]])
+    return _cc(G, directed=False)
 
 
 def _edge_pairs(key):

@@ -58,7 +58,7 @@ from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import doublearea, vertex_areas
 from ..geometry.quality import corner_radius_ratio_bound, radius_ratio, triangle_angles
 from ..geometry.repair import repair_degenerate_faces
-from ..mesh.cut import cut_to_disk, weld_cuts
+from ..mesh.cut import cut_to_disk, weld_cut
 from ..mesh.subdivide import upsample
 from ..mesh.topology import (
     boundary_edges,
@@ -66,6 +66,7 @@ from ..mesh.topology import (
     boundary_loops,
     connected_components,
     duplicate_faces,
+    euler_characteristic,
     genus,
     inconsistent_edges,
     needles_and_caps,
@@ -74,7 +75,7 @@ from ..mesh.topology import (
     orient_faces,
     unreferenced_vertices,
 )
-from ..mesh.validate import DegenerateFaceError, MeshError, NonManifoldError, OrientationError, TopologyError
+from ..mesh.validate import DegenerateFaceError, NonManifoldError, OrientationError, TopologyError
 from ..param.disk import disk_conformal_map
 from .min_quality import QUALITY_FLOOR
 from .relax import relax_on_surface
@@ -257,19 +258,21 @@ def _plan(V, F, bnd, faces, levels, density=None):
 
 
 def _remesh_cut(V, F, faces, sizing, data, repairs, options):
-    """:func:`remesh` of a surface of genus 0 that is not a disk (closed, or with
-    holes): cut open into a disk (:func:`qcremesh.mesh.cut.cut_to_disk`), remeshed with a
-    fixed boundary whose corners include the cuts' ends (so that the two sides of each
-    cut get the same vertices), with edges shortened around the holes shorter than a few
-    edges (:func:`qcremesh.adaptive.sizing.hole_sizing`), and welded shut along the cuts
-    (:func:`qcremesh.mesh.cut.weld_cuts`). ``levels`` are welded each; ``uv``,
-    ``disk_levels`` and ``mu`` stay those of the cut disk; ``repairs``, the stats of what
-    :func:`_repair` mended first (the faces' orientation, which the cut needs to tell the
-    two sides of a path), join the result's."""
+    """:func:`remesh` of a surface that is not a disk (closed, with holes, with handles):
+    cut open into a disk (:func:`qcremesh.mesh.cut.cut_to_disk`), remeshed with a fixed
+    boundary whose corners include the copies of the cut's ends and branch points (so that
+    the two sides of each cut get the same vertices), with edges shortened around the
+    holes shorter than a few edges (:func:`qcremesh.adaptive.sizing.hole_sizing`), and
+    welded shut along the cut (:func:`qcremesh.mesh.cut.weld_cut`). ``levels`` are welded
+    each; ``uv``, ``disk_levels`` and ``mu`` stay those of the cut disk; ``repairs``, the
+    stats of what :func:`_repair` mended first (the faces' orientation, which the cut
+    needs to tell the two sides of a path), join the result's."""
     if options["relax"] == 0 or options["method"] == "uniform":
-        raise ValueError("a surface that is not a disk needs the relaxation (relax > 0) and a method other than 'uniform'")
+        raise ValueError(
+            "a surface that is not a disk needs the relaxation (relax > 0) and a method other than 'uniform'"
+        )
     try:
-        F_cut, parent, paths = cut_to_disk(V, F, len(V))
+        F_cut, parent, cut = cut_to_disk(V, F, len(V))
     except ValueError as error:
         raise TopologyError(f"cannot cut the surface open into a disk: {error}") from error
     edge = np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * faces))
@@ -281,25 +284,42 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
         repairs = dict(repairs, hole_sizing_min_ratio=float(holes.min()))
     cut_data = {k: np.asarray(v)[parent] for k, v in data.items()} if data else data
     cut_sizing = sizing if sizing is None or isinstance(sizing, str) else np.asarray(sizing)[parent]
-    ends = np.array([path[[0, -1]] for path in paths])
+    # Corners: where the cut ends, branches or meets the boundary.
+    degree = np.bincount(cut.ravel(), minlength=len(V))
+    on_boundary = np.zeros(len(V), dtype=bool)
+    on_boundary[boundary_edges(F).ravel()] = True
+    corner = (degree > 0) & ((degree != 2) | on_boundary)
     result = remesh(
         V[parent], F_cut, faces, sizing=cut_sizing, fixed_boundary=True,
-        corners=np.flatnonzero(np.isin(parent, ends)), data=cut_data, **options,
+        corners=np.flatnonzero(corner[parent] & np.isin(np.arange(len(parent)), boundary_edges(F_cut))),
+        data=cut_data, **options,
     )
+    chi, loops = euler_characteristic(F), len(boundary_loops(F))
 
     def weld(X, Fo):
-        loop = boundary_loop(Fo)
-        tol = 1e-9 * np.linalg.norm(X[np.roll(loop, -1)] - X[loop], axis=1).mean()
-        return weld_cuts(X, Fo, V[ends], tol)
+        """The level welded, or None where it does not weld back into the input's topology."""
+        border = boundary_edges(Fo)
+        tol = 1e-9 * np.linalg.norm(X[border[:, 0]] - X[border[:, 1]], axis=1).mean()
+        X, Fo, kept = weld_cut(X, Fo, V[cut], tol)
+        welded = euler_characteristic(Fo) == chi and len(boundary_loops(Fo)) == loops
+        return (X, Fo, kept) if welded and not len(nonmanifold_edges(Fo)) else None
 
-    Vo, Fo, kept = weld(result.V, result.F)
-    levels = [weld(X, f)[:2] for X, f in result.levels]
+    welded = weld(result.V, result.F)
+    if welded is None:
+        raise ValueError("the remesh of the cut surface does not weld back into the input's topology")
+    Vo, Fo, kept = welded
+    # A coarse level can have a face across two copies of a branch point of the cut
+    # (the corners of the disk where a handle's two loops meet), which the weld folds
+    # away: the levels start above the last such one.
+    levels = [weld(X, f) for X, f in result.levels]
+    first = max([i + 1 for i, level in enumerate(levels) if level is None], default=0)
+    levels = [level[:2] for level in levels[first:]]
     out_data = {k: np.asarray(v)[kept] for k, v in result.data.items()}
-    stats = dict(repairs, **result.stats, cuts=len(paths), cut_vertices=int(sum(len(p) for p in paths)))
+    stats = dict(repairs, **result.stats, cut_edges=len(cut))
     return RemeshResult(Vo, Fo, result.uv, levels, out_data, result.disk_levels, result.mu, stats, result.times)
 
 
-def _remesh_pieces(V, F, label, count, faces, sizing, data, repairs, options):
+def _remesh_pieces(V, F, label, count, faces, sizing, fixed_boundary, data, repairs, options):
     """:func:`remesh` of a mesh in several connected pieces (``label`` (m,), the piece of
     each face, 0..count-1): each piece remeshed on its own with a share of ``faces``
     proportional to its area (at least 4), and the results joined.
@@ -311,19 +331,19 @@ def _remesh_pieces(V, F, label, count, faces, sizing, data, repairs, options):
     faces), with ``stats["pieces"]`` and ``stats["piece_faces"]`` (each piece's output
     faces); the times are summed."""
     area = np.bincount(label, doublearea(V, F), count)
+    by_piece = np.split(F[np.argsort(label, kind="stable")], np.cumsum(np.bincount(label, minlength=count))[:-1])
     results = []
-    for k in range(count):
-        G = F[label == k]
-        used = np.unique(G)
-        index = np.full(len(V), -1, dtype=np.int64)
-        index[used] = np.arange(len(used))
+    for k, G in enumerate(by_piece):
+        used, local = np.unique(G, return_inverse=True)
         share = max(int(round(faces * area[k] / area.sum())), 4)
         piece_sizing = sizing if sizing is None or isinstance(sizing, str) else np.asarray(sizing)[used]
         piece_data = {name: np.asarray(v)[used] for name, v in data.items()} if data else data
-        try:
-            results.append(remesh(V[used], index[G], share, sizing=piece_sizing, data=piece_data, **options))
-        except MeshError as error:
-            raise type(error)(f"piece {k + 1} of {count} ({len(G)} faces): {error}") from None
+        results.append(
+            remesh(
+                V[used], local.reshape(-1, 3), share, sizing=piece_sizing, fixed_boundary=fixed_boundary,
+                data=piece_data, **options,
+            )
+        )
     depth = min(len(r.levels) for r in results)
     levels = [[r.levels[len(r.levels) - depth + i] for r in results] for i in range(depth)]
     # Global numbering: level by level, piece by piece, the vertices new at that level.
@@ -377,14 +397,16 @@ def remesh(
     data=None,
     progress=None,
 ):
-    """Remesh a triangle mesh of genus 0 (a disk; a disk with holes; a closed surface)
-    into a regular, semi-regular one.
+    """Remesh a triangle mesh of manifold surfaces (disks, surfaces with holes, closed
+    surfaces, handles; one piece or several) into a regular, semi-regular one.
 
-    A surface of genus 0 that is not a disk is cut open into one along shortest paths of
-    its edges (a closed one between its two vertices farthest apart along its principal
-    axis; one with holes from each hole to the longest boundary loop), remeshed with
-    ``fixed_boundary`` and the cuts' ends as ``corners`` (so that the two sides of each
-    cut get the same vertices) and closed again (:func:`_remesh_cut`).
+    A surface that is not a disk is cut open into one along its edges
+    (:func:`qcremesh.mesh.cut.cut_to_disk`: loops around its handles, paths from each
+    hole to the longest boundary loop, a closed one of genus 0 slit between its two
+    vertices farthest apart along its principal axis), remeshed with ``fixed_boundary``
+    and the cut's ends and branch points as ``corners`` (so that the two sides of each
+    cut get the same vertices) and closed again (:func:`_remesh_cut`); several pieces are
+    remeshed each (:func:`_remesh_pieces`).
 
     Where the validation refuses the input for faces listed more than once (which make
     their edges non-manifold), faces turned against their neighbours, or for needles and
@@ -398,7 +420,7 @@ def remesh(
     ----------
     V : (n, 3) float
     F : (m, 3) int
-        One connected manifold surface of genus 0 (a disk passes
+        Manifold, consistently oriented surfaces (a disk passes
         :func:`qcremesh.mesh.validate.check_disk`).
     faces : int, optional
         Number of output faces wanted (the input's by default). The output has this many
@@ -535,19 +557,10 @@ def remesh(
         if pieces > 1 and np.bincount(F.ravel()).max() > 1:
             if corners is not None and len(corners):
                 raise ValueError("corners are taken only on a disk")
-            return _remesh_pieces(V, F, label, pieces, faces, sizing, data, stats, options)
-        # Not a disk: a surface of genus 0 is cut open, remeshed and welded.
-        g = genus(F, len(V))
-        if g is None:
+            return _remesh_pieces(V, F, label, pieces, faces, sizing, fixed_boundary, data, stats, options)
+        # Not a disk: a surface is cut open, remeshed and welded.
+        if genus(F, len(V)) is None:
             raise
-        if g != 0:
-            loops = len(boundary_loops(F))
-            kind = "closed surface" if not loops else "surface"
-            holes = f" with {loops} boundary loop" + "s" * (loops > 1) if loops else ""
-            raise TopologyError(
-                f"{kind} of genus {g}{holes} (Euler characteristic {2 - 2 * g - loops}); "
-                "remesh takes surfaces of genus 0: disks, disks with holes, closed surfaces"
-            ) from None
         loops = boundary_loops(F)
         if len(loops) == 1 and len(loops[0]) == len(V):
             # A disk with every vertex on its boundary (a strip or fan of triangles), which
