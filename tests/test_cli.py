@@ -1,3 +1,4 @@
+import re
 import subprocess
 import sys
 
@@ -290,10 +291,21 @@ def test_remesh_cli_takes_closed_surfaces_holes_and_handles(tmp_path, capsys):
     write_mesh(path, *sphere_mesh(1500))
     assert main(["remesh", str(path), "-o", str(tmp_path / "r.obj"), "--faces", "2000"]) == 0
     assert "boundary loops 0, Euler characteristic 2, manifold yes" in capsys.readouterr().out
-    write_mesh(tmp_path / "holes.ply", *holed_disk())
+    V, F = holed_disk()
+    write_mesh(tmp_path / "holes.ply", V, F)
     assert main(["remesh", str(tmp_path / "holes.ply"), "-o", str(tmp_path / "h.obj")]) == 0
-    assert "boundary loops 3, Euler characteristic -1, manifold yes" in capsys.readouterr().out
-    write_mesh(tmp_path / "torus.ply", *torus_mesh())
+    text = capsys.readouterr().out
+    assert "boundary loops 3, Euler characteristic -1, manifold yes" in text
+    assert re.search(r"\nnot a disk: cut open along \d+ edges, remeshed and welded shut\n", text)
+    T, G = torus_mesh()
+    write_mesh(tmp_path / "torus.ply", T, G)
     assert main(["remesh", str(tmp_path / "torus.ply"), "-o", str(tmp_path / "t.obj")]) == 0
     assert "boundary loops 0, Euler characteristic 0, manifold yes" in capsys.readouterr().out
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["h.obj", "holes.ply", "r.obj", "sphere.ply", "t.obj", "torus.ply"]
+    write_mesh(tmp_path / "two.ply", np.r_[V, T + 3], np.r_[F, G + len(V)])
+    assert main(["remesh", str(tmp_path / "two.ply"), "-o", str(tmp_path / "two.obj"), "--faces", "2000"]) == 0
+    text = capsys.readouterr().out
+    assert "boundary loops 3, Euler characteristic -1, manifold yes" in text
+    assert re.search(r"\n2 pieces, remeshed each \([\d,]+, [\d,]+ faces; the numbers below are the largest's\)\n", text)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "h.obj", "holes.ply", "r.obj", "sphere.ply", "t.obj", "torus.ply", "two.obj", "two.ply"
+    ]

@@ -237,6 +237,13 @@ def _remesh(args, out):
         )
     if mended:
         print("repaired the input first: " + "; ".join(mended), file=out)
+    if "pieces" in st:
+        faces = ", ".join(f"{f:,}" for f in st["piece_faces"])
+        print(f"{st['pieces']} pieces, remeshed each ({faces} faces; the numbers below are the largest's)", file=out)
+    if "cut_edges" in st:
+        print(f"not a disk: cut open along {st['cut_edges']} edges, remeshed and welded shut", file=out)
+    if "hole_sizing_min_ratio" in st:
+        print(f"holes shorter than 6 edges: edges down to {st['hole_sizing_min_ratio']:.2f} around them", file=out)
     # the faces as remesh kept and oriented them, where it dropped repeated ones or reversed
     # some turned against the others
     kept = np.delete(F, duplicate_faces(F), axis=0) if "duplicate_faces" in st else F
