@@ -206,8 +206,9 @@ def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
 def _repair(V, F, data, sizing, stats):
     """The input made acceptable to the disk map where the validation refused it for
     what can be mended without moving the surface (more than 1e-3 of an edge): faces
-    listed more than once are kept once, faces turned against their neighbours are reversed (:func:`qcremesh.mesh.topology.orient_faces`,
-    the majority's orientation kept), needles merged and caps flipped away
+    listed more than once are kept once, faces turned against their neighbours are
+    reversed (:func:`qcremesh.mesh.topology.orient_faces`, the majority's orientation
+    kept), needles merged and caps flipped away
     (:func:`qcremesh.geometry.repair.repair_degenerate_faces`). Returns the new vertices,
     faces, per-vertex data and sizing field (of the vertices kept), counting what was done in
     ``stats``; None where nothing applies or another defect stands first (non-manifold
