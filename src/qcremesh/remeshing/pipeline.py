@@ -21,6 +21,10 @@ with projection back onto the surface).
 8. Beyond the paper, optional (``relax``, on by default): tangential relaxation on the
    surface and a search that raises the minimum quality (:mod:`qcremesh.remeshing.relax`).
 
+Beyond the paper, any manifold surface: one that is not a disk is cut open into one
+along its edges (:mod:`qcremesh.mesh.cut`), remeshed with the two sides of every cut
+alike and welded shut; several pieces are remeshed each.
+
 Beyond the paper too, a ``sizing`` field (per input vertex, or ``"curvature"``, see
 :mod:`qcremesh.adaptive.sizing`) grades the edge lengths: the landmarks spread the surface
 area weighted by sizing^-2, and the relaxation keeps their grading.
