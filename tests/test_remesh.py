@@ -11,6 +11,8 @@ from qcremesh.mesh.topology import (
     connected_components,
     duplicate_faces,
     euler_characteristic,
+    nonmanifold_edges,
+    nonmanifold_vertices,
 )
 from qcremesh.mesh.validate import MeshError, TopologyError, check_disk
 from qcremesh.param.disk import disk_conformal_map
@@ -326,3 +328,17 @@ def test_a_triangle_soup_is_refused():
     V = np.column_stack([uv, np.zeros(len(uv))])[F].reshape(-1, 3)
     with pytest.raises(TopologyError, match=r"connected components, a disk has 1 \(no two faces share a vertex"):
         remesh(V, np.arange(len(V)).reshape(-1, 3))
+
+
+def test_a_boundary_spike_far_off_the_surface_remeshes_into_a_disk(fran):
+    """fran_cut with a triangle on a boundary edge reaching 9 away (the scan is about 0.3
+    across): the boundary is mostly that spike, whose 2,507 landmarks the disk map crowds
+    closer than Qhull resolves (960 left out, runs of them on two edges of one triangle).
+    The base mesh puts them back with one fan per triangle; it made two overlapping fans,
+    two non-manifold edges and a ValueError in the relaxation. The faces along the spike
+    (a needle 9 long and 0.005 wide) are slivers, most of zero area at rounding: it has no
+    room for anything else."""
+    V, F, _ = fran
+    r = remesh(np.r_[V, [[0.0, 0.0, 9.0]]], np.r_[F, [[*F[0, :2], len(V)]]], 2000)
+    assert len(boundary_loops(r.F)) == 1 and euler_characteristic(r.F) == 1
+    assert not len(nonmanifold_edges(r.F)) and not len(nonmanifold_vertices(r.F))

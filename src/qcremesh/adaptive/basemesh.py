@@ -72,7 +72,8 @@ def _include_every_point(uv, F, b):
     disk's size, where the disk map crowds the surface (the boundary at the end of a long
     strip, the far end of a long tube, about 1e-9 from the centre). A boundary point left
     out is put back into the triangle on the chord that skips it (split into a fan from
-    that triangle's third corner). Interior points left out are inserted into the
+    that triangle's third corner; one fan around the triangle where chords skip points on
+    two or three of its edges). Interior points left out are inserted into the
     triangles that contain them (:func:`~qcremesh.geometry.triangulation.insert_points`)
     and the edges flipped until the triangulation is Delaunay again
     (:func:`~qcremesh.geometry.triangulation.delaunay_flips`, whose test on angles does
@@ -91,13 +92,25 @@ def _include_every_point(uv, F, b):
     keys = (F * n + np.roll(F, -1, axis=1)).ravel()  # row f, column j: edge F[f, j] -> F[f, j + 1]
     order = np.argsort(keys)
     face = order[np.searchsorted(keys[order], first * n + last)] // 3
-    corner = np.argmax(F[face] == first[:, None], axis=1)
-    apex = F[face, (corner + 2) % 3]
+    chords = dict(zip(first.tolist(), last.tolist()))
+
+    def path(p, q):
+        """Along the triangle's edge p -> q: the boundary points its chord skips, then q."""
+        if chords.get(p) != q:
+            return np.array([q])
+        return np.r_[np.arange(p + 1, q if q > p else q + b) % b, q]
+
+    # Each triangle on a chord becomes a fan from its corner opposite the chord over the
+    # points skipped (a triangle can have two or three such chords, where Qhull left out
+    # runs of points on each: the fan then runs over all of them, around the triangle).
     fans = []
-    for p, q, k in zip(first, last, apex):
-        chain = np.r_[p, np.arange(p + 1, q if q > p else q + b) % b, q]
-        fans.append(np.column_stack([chain[:-1], chain[1:], np.full(len(chain) - 1, k)]))
-    F = np.concatenate([np.delete(F, face, axis=0)] + fans)
+    for f in face[np.sort(np.unique(face, return_index=True)[1])]:
+        c = F[f].tolist()
+        j = next(j for j in range(3) if chords.get(c[j]) == c[(j + 1) % 3])
+        k = c[(j + 2) % 3]
+        around = np.concatenate([path(k, c[j]), path(c[j], c[(j + 1) % 3]), path(c[(j + 1) % 3], k)[:-1]])
+        fans.append(np.column_stack([around[:-1], around[1:], np.full(len(around) - 1, k)]))
+    F = np.concatenate([np.delete(F, np.unique(face), axis=0)] + fans)
     missing = np.flatnonzero(~used[b:]) + b
     if len(missing):
         F = delaunay_flips(uv, insert_points(uv, F, missing))
