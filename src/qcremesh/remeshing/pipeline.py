@@ -383,6 +383,42 @@ def _remesh_pieces(V, F, label, count, faces, sizing, fixed_boundary, data, repa
     return RemeshResult(V_out, F_out, main.uv, joined, out_data, main.disk_levels, main.mu, stats, times)
 
 
+def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, data, stats, options):
+    """:func:`remesh` of a mesh that the disk validation refused for its topology (after the
+    repairs): several pieces remeshed each (:func:`_remesh_pieces`); a disk with every
+    vertex on its boundary (a strip or fan of triangles, which the disk map cannot take)
+    split 1-to-4 until it has an interior vertex, the same surface; any other manifold
+    surface cut open, remeshed and welded (:func:`_remesh_cut`). None for a mesh that is
+    none of these (a triangle soup, a non-manifold one), whose validation error stands."""
+    pieces, label = connected_components(F, len(V))
+    if pieces > 1 and np.bincount(F.ravel()).max() > 1:
+        if corners is not None and len(corners):
+            raise ValueError("corners are taken only on a disk")
+        return _remesh_pieces(V, F, label, pieces, faces, sizing, fixed_boundary, data, stats, options)
+    if genus(F, len(V)) is None:
+        return None
+    loops = boundary_loops(F)
+    if len(loops) == 1 and len(loops[0]) == len(V):
+        fields = [V] + [np.reshape(v, (len(V), -1)) for v in (data or {}).values()]
+        fields += [] if sizing is None or isinstance(sizing, str) else [np.reshape(sizing, (-1, 1))]
+        X, F_fine = np.column_stack(fields), F
+        while len(boundary_loop(F_fine)) == len(np.unique(F_fine)):
+            X, F_fine = upsample(X, F_fine, 1)
+        parts = np.split(X, np.cumsum([f.shape[1] for f in fields])[:-1], axis=1)
+        V_fine = parts.pop(0)
+        fine_data = {k: p.reshape((len(X),) + np.shape(v)[1:]) for (k, v), p in zip((data or {}).items(), parts)}
+        fine_sizing = parts[-1][:, 0] if len(parts) > len(fine_data) else sizing
+        result = remesh(
+            V_fine, F_fine, faces, sizing=fine_sizing, fixed_boundary=fixed_boundary, corners=corners,
+            data=fine_data if data else data, **options,
+        )
+        result.stats.update(stats, subdivided_input=True)
+        return result
+    if corners is not None and len(corners):
+        raise ValueError("corners are taken only on a disk")
+    return _remesh_cut(V, F, faces, sizing, data, stats, options)
+
+
 def remesh(
     V,
     F,
@@ -562,37 +598,10 @@ def remesh(
             relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries, progress=progress,
         )
         sizing = "curvature" if curvature else sizing
-        pieces, label = connected_components(F, len(V))
-        if pieces > 1 and np.bincount(F.ravel()).max() > 1:
-            if corners is not None and len(corners):
-                raise ValueError("corners are taken only on a disk")
-            return _remesh_pieces(V, F, label, pieces, faces, sizing, fixed_boundary, data, stats, options)
-        # Not a disk: a surface is cut open, remeshed and welded.
-        if genus(F, len(V)) is None:
+        result = _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, data, stats, options)
+        if result is None:
             raise
-        loops = boundary_loops(F)
-        if len(loops) == 1 and len(loops[0]) == len(V):
-            # A disk with every vertex on its boundary (a strip or fan of triangles), which
-            # the disk map cannot take: the same surface split 1-to-4 until it has an
-            # interior vertex.
-            fields = [V] + [np.reshape(v, (len(V), -1)) for v in (data or {}).values()]
-            fields += [] if sizing is None or isinstance(sizing, str) else [np.reshape(sizing, (-1, 1))]
-            X, F_fine = np.column_stack(fields), F
-            while len(boundary_loop(F_fine)) == len(np.unique(F_fine)):
-                X, F_fine = upsample(X, F_fine, 1)
-            parts = np.split(X, np.cumsum([f.shape[1] for f in fields])[:-1], axis=1)
-            V_fine = parts.pop(0)
-            fine_data = {k: p.reshape((len(X),) + np.shape(v)[1:]) for (k, v), p in zip((data or {}).items(), parts)}
-            fine_sizing = parts[-1][:, 0] if len(parts) > len(fine_data) else sizing
-            result = remesh(
-                V_fine, F_fine, faces, sizing=fine_sizing, fixed_boundary=fixed_boundary, corners=corners,
-                data=fine_data if data else data, **options,
-            )
-            result.stats.update(stats, subdivided_input=True)
-            return result
-        if corners is not None and len(corners):
-            raise ValueError("corners are taken only on a disk")
-        return _remesh_cut(V, F, faces, sizing, data, stats, options)
+        return result
     stats.update(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces
     )
