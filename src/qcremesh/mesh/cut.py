@@ -40,9 +40,15 @@ def shortest_edge_path(V, F, source, target):
     _, previous = dijkstra(G, directed=False, indices=int(source), return_predecessors=True)
     if previous[target] < 0 and target != source:
         raise ValueError(f"no path along the edges joins vertices {source} and {target}")
-    path = [int(target)]
-    # (one step per vertex of the path, a few hundred on a mesh of 100k vertices)
-    while path[-1] != source:
+    return _walk_back(previous, target)
+
+
+def _walk_back(previous, end):
+    """The path from the root of a shortest path tree (``previous``, the predecessors
+    from scipy's Dijkstra, negative at a root) to ``end``, (k,) int64: one step per
+    vertex of the path, a few hundred on a mesh of 100k vertices."""
+    path = [int(end)]
+    while previous[path[-1]] >= 0:
         path.append(int(previous[path[-1]]))
     return np.array(path[::-1], dtype=np.int64)
 
@@ -156,8 +162,7 @@ def cut_to_disk(V, F, n=None):
         centred = V - V.mean(0)
         axis = np.linalg.svd(centred[:: max(1, n // 20000)], full_matrices=False)[2][0]
         along = centred @ axis
-        path = shortest_edge_path(V, F, int(np.argmin(along)), int(np.argmax(along)))
-        paths = [path]
+        paths = [shortest_edge_path(V, F, int(np.argmin(along)), int(np.argmax(along)))]
     else:
         paths = _paths_between_loops(V[parent], F_cut, len(parent), loops)
     more = np.concatenate([np.column_stack([p[:-1], p[1:]]) for p in paths]) if paths else np.zeros((0, 2), int)
@@ -180,13 +185,12 @@ def _handle_loops(V, F, n, g):
     P = np.r_[V, [V[loop].mean(0) for loop in loops]] if loops else V
     H = half_edges(C)
     keys = _edge_keys(H, total)
-    E = _keys_to_edges(unique_integers(keys), total)
+    edge_keys = unique_integers(keys)
+    E = _keys_to_edges(edge_keys, total)
     length = np.linalg.norm(P[E[:, 0]] - P[E[:, 1]], axis=1)
     on_cone = E[:, 1] >= n
-    on_border = np.zeros(len(E), dtype=bool)
-    if loops:
-        border = _edge_keys(boundary_edges(F), total)
-        on_border = np.isin(E[:, 0] * total + E[:, 1], border)
+    border = _edge_keys(boundary_edges(F), total) if loops else np.zeros(0, dtype=np.int64)
+    on_border = np.isin(edge_keys, border)
     # Shortest path tree from the vertex nearest the centroid; the cones only last (a
     # cone's vertex is then a leaf, which no tree path crosses).
     big = length.sum() + 1.0
@@ -196,13 +200,13 @@ def _handle_loops(V, F, n, g):
     dist, previous = dijkstra(G, directed=False, indices=root, return_predecessors=True)
     child = np.flatnonzero(previous >= 0)
     tree_keys = _edge_keys(np.column_stack([child, previous[child]]), total)
-    in_tree = np.isin(E[:, 0] * total + E[:, 1], tree_keys)
+    in_tree = np.isin(edge_keys, tree_keys)
     # Dual: faces joined across the edges out of the tree, a maximum spanning tree of the
     # length of the edges' loops (the cones' and borders' edges first).
     m = len(C)
     i, j = twin_half_edges(C)
     pair_keys = keys[i]
-    index = np.searchsorted(E[:, 0] * total + E[:, 1], pair_keys)
+    index = np.searchsorted(edge_keys, pair_keys)
     out = ~in_tree[index]
     loop_length = dist[E[:, 0]] + dist[E[:, 1]] + length
     priority = np.where(on_cone | on_border, 0.0, loop_length.max() + 1.0 - loop_length) + 1.0
@@ -215,18 +219,14 @@ def _handle_loops(V, F, n, g):
     left = np.flatnonzero(~in_tree & ~in_cotree)
     if len(left) != 2 * g:
         raise ValueError(f"the tree-cotree decomposition leaves {len(left)} edges, not {2 * g}")
-    cut = []
-    for e in left:
-        for end in E[e]:
-            v = int(end)
-            while previous[v] >= 0:
-                cut.append((v, int(previous[v])))
-                v = int(previous[v])
-        cut.append(tuple(E[e]))
-    cut = np.array(cut, dtype=np.int64)
-    cut = _keys_to_edges(unique_integers(_edge_keys(cut, total)), total)
+    # Each loop: the tree paths from the root to the two ends of its edge, and the edge.
+    paths = [_walk_back(previous, end) for e in left for end in E[e]]
+    cut = np.concatenate([E[left]] + [np.column_stack([p[:-1], p[1:]]) for p in paths])
+    cut_keys = unique_integers(_edge_keys(cut, total))
     # out of the caps, off the border
-    cut = cut[(cut[:, 1] < n) & np.isin(cut[:, 0] * total + cut[:, 1], border if loops else [], invert=True)]
+    cut_keys = cut_keys[np.isin(cut_keys, border, invert=True)]
+    cut = _keys_to_edges(cut_keys, total)
+    cut = cut[cut[:, 1] < n]
     return _prune(cut, n, np.unique(np.concatenate(loops)) if loops else np.zeros(0, dtype=np.int64))
 
 
@@ -270,16 +270,10 @@ def _paths_between_loops(V, F, n, loops):
             raise ValueError(
                 f"no path through interior vertices joins a boundary loop of {len(loops[k])} edges to the longest one"
             )
-        end = int(ends[np.argmin(dist[ends])])
-        path = [end]
-        while path[-1] != source[end]:
-            path.append(int(previous[path[-1]]))
-        path = np.array(path[::-1], dtype=np.int64)
+        path = _walk_back(previous, ends[np.argmin(dist[ends])])
         used[path] = True
         paths.append(path)
     return paths
-
-
 
 
 def weld_cut(X, F, segments, tol):
