@@ -250,12 +250,12 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     """
     theta_b = boundary_angles(uv, bnd)
     P = np.asarray(V, dtype=np.float64)[bnd]
-    scale = _arc_length(P)[-1] / max(count, 3)
+    s = _arc_length(P)
+    scale = s[-1] / max(count, 3)
     found = boundary_corners(V, bnd, corner_angle, scale=scale, pieces=corners)
     sigma = smoothed_arc_length(P, scale if smooth else 0.0, density)
     if corners is not None and len(corners):
         corners = np.unique(np.asarray(corners, dtype=np.int64))
-        s = _arc_length(P)
         gap = np.abs(s[found][:, None] - s[corners][None])
         found = found[np.all(np.minimum(gap, s[-1] - gap) >= scale / 2, axis=1)]
         corners = np.union1d(found, corners)
