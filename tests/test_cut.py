@@ -5,9 +5,10 @@ from scipy.sparse.csgraph import floyd_warshall
 
 from conftest import DATA, grid_disk, holed_disk, sphere_mesh, torus_mesh
 from qcremesh.geometry.distance import point_mesh_distance
+from qcremesh.geometry.operators import doublearea
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
 from qcremesh.mesh.io import read_mesh
-from qcremesh.mesh.cut import cut_along_edges, cut_to_disk, shortest_edge_path, weld_cut
+from qcremesh.mesh.cut import cut_along_edges, cut_to_disk, paths_across, shortest_edge_path, weld_along_paths, weld_cut
 from qcremesh.mesh.topology import (
     boundary_edges,
     boundary_loop,
@@ -225,3 +226,73 @@ def test_remesh_orients_a_closed_surface_before_cutting_it():
     assert not len(boundary_edges(r.F)) and euler_characteristic(r.F) == 2
     volume = np.einsum("ij,ij->i", r.V[r.F[:, 0]], np.cross(r.V[r.F[:, 1]], r.V[r.F[:, 2]])).sum() / 6
     assert volume > 3.5  # outwards, as the majority
+
+
+def test_paths_across_run_through_interior_vertices_and_apart():
+    uv, F = grid_disk(12)
+    V = np.column_stack([uv, np.zeros(len(uv))])
+    boundary = np.unique(boundary_edges(F))
+    left = [int(np.flatnonzero(np.isclose(uv[:, 0], 0) & np.isclose(uv[:, 1], y))[0]) for y in uv[:12, 0][[3, 8]]]
+    right = [int(np.flatnonzero(np.isclose(uv[:, 0], 1) & np.isclose(uv[:, 1], y))[0]) for y in uv[:12, 0][[3, 8]]]
+    bottom, top = 5, 11 * 12 + 5
+    paths = paths_across(V, F, [[left[0], right[0]], [left[1], right[1]], [bottom, top]])
+    for path, (a, b) in zip(paths[:2], zip(left, right)):
+        assert path[0] == a and path[-1] == b
+        assert not np.isin(path[1:-1], boundary).any()
+    assert not np.isin(paths[0], paths[1]).any()
+    # bottom to top must cross the first two paths
+    assert paths[2] is None
+
+
+def test_weld_along_paths_joins_pieces_but_not_a_slit():
+    """A grid cut across into two pieces is welded back into it; on a grid with a
+    zero-width slit ending where the path starts, the slit's other side stays apart."""
+    uv, F = grid_disk(9)
+    V = np.column_stack([uv, np.zeros(len(uv))])
+    a = int(np.flatnonzero(np.isclose(uv[:, 0], 0) & np.isclose(uv[:, 1], 0.5))[0])
+    b = int(np.flatnonzero(np.isclose(uv[:, 0], 1) & np.isclose(uv[:, 1], 0.5))[0])
+    (path,) = paths_across(V, F, [[a, b]])
+    F_cut, parent = cut_along_edges(F, np.column_stack([path[:-1], path[1:]]), len(V))
+    assert connected_components(F_cut, len(parent))[0] == 2
+    X, G, kept = weld_along_paths(V[parent], F_cut, [V[path]], 1e-9)
+    assert len(X) == len(V) and euler_characteristic(G) == 1 and len(boundary_loops(G)) == 1
+    np.testing.assert_array_equal(np.sort(parent[kept]), np.arange(len(V)))
+    # a second copy of the left end, as the other side of a slit, stays
+    slit = np.r_[V[parent], V[a][None]]
+    faces = np.r_[F_cut, [[len(parent), len(parent) + 1, len(parent) + 2]]]
+    X2, G2, _ = weld_along_paths(np.r_[slit, V[a][None] + [[-0.1, 0, 0], [-0.1, -0.1, 0]]], faces, [V[path]], 1e-9)
+    assert len(X2) == len(V) + 3 and connected_components(G2, len(X2))[0] == 2
+    with pytest.raises(ValueError, match="a path has chains of no boundary vertices along it, not two alike"):
+        weld_along_paths(V[parent], F_cut, [V[path] + 1.0], 1e-9)
+
+
+def test_remeshes_apart_with_one_boundary_edge_length_weld():
+    """The two halves of a disk remeshed apart, each with a share of the faces by area,
+    the path's ends as corners and the same boundary edge length, get the same vertices
+    along the path; with their own boundary counts they need not."""
+    V, F = read_mesh(DATA / "fran_cut.ply")
+    bnd = boundary_loops(F)[0]
+    # (a boundary vertex in a face of boundary vertices alone has no path into the interior)
+    path = next(p for i in range(10) for p in paths_across(V, F, [[bnd[i], bnd[i + len(bnd) // 2]]]) if p is not None)
+    F_cut, parent = cut_along_edges(F, np.column_stack([path[:-1], path[1:]]), len(V))
+    count, label = connected_components(F_cut, len(parent))
+    edge = np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * 4000))
+    parts = []
+    for k in range(count):
+        used, local = np.unique(F_cut[label == k], return_inverse=True)
+        share = int(round(4000 * doublearea(V[parent], F_cut[label == k]).sum() / doublearea(V, F).sum()))
+        corners = np.flatnonzero(np.isin(parent[used], path[[0, -1]]))
+        r = remesh(V[parent][used], local.reshape(-1, 3), share, fixed_boundary=True, corners=corners,
+                   boundary_edge_length=edge, levels=0)
+        parts.append(r)
+    assert [r.stats["levels"] for r in parts] == [0, 0]
+    X = np.r_[parts[0].V, parts[1].V]
+    G = np.r_[parts[0].F, parts[1].F + len(parts[0].V)]
+    welded, G, _ = weld_along_paths(X, G, [V[path]], 1e-9)
+    assert euler_characteristic(G) == 1 and len(boundary_loops(G)) == 1 and not len(nonmanifold_edges(G))
+    # about the path's length over the edge length, plus one (each part between corners
+    # found along the path rounded on its own)
+    along = np.linalg.norm(np.diff(V[path], axis=0), axis=1).sum() / edge
+    assert abs(len(X) - len(welded) - (along + 1)) <= 2
+    with pytest.raises(ValueError, match="boundary_edge_length must be positive and needs fixed_boundary"):
+        remesh(V, F, boundary_edge_length=edge)

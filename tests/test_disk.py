@@ -6,6 +6,7 @@ from qcremesh.geometry.operators import signed_doublearea
 from qcremesh.mesh.io import read_mesh
 from qcremesh.mesh.subdivide import upsample
 from qcremesh.mesh.validate import TopologyError
+from qcremesh.param.crowding import crowded_arcs
 from qcremesh.param.disk import disk_conformal_map, harmonic_measure
 
 
@@ -119,3 +120,21 @@ def test_sheared_triangulation_gets_a_conformal_map():
     result = disk_conformal_map(V, F)
     check_bijective_disk(result, F)
     assert result.intrinsic_flips > 1000 and result.mean_abs_mu < 0.12 and result.repaired_faces > 0
+
+
+def test_crowded_arcs_are_the_ends_of_a_strip():
+    """A strip 12 times as long as wide: the boundary arc per unit length of its disk
+    map falls exponentially towards the ends; below 0.1 of the
+    mean, two runs of vertices, one around each end, and well above 1 in the middle,
+    which gets most of the circle."""
+    V, F = strip_disk(12)
+    dm = disk_conformal_map(V, F)
+    start, count, crowding = crowded_arcs(V, dm.uv, dm.boundary, 0.1)
+    assert len(start) == 2 and (count == count[0]).all()
+    x = V[dm.boundary, 0]
+    low = crowding < 0.1
+    runs = [dm.boundary[(s + np.arange(c)) % len(dm.boundary)] for s, c in zip(start, count)]
+    assert np.array_equal(np.sort(np.concatenate(runs)), np.sort(dm.boundary[low]))
+    assert all(len(np.unique(V[run, 0] < 6)) == 1 for run in runs)  # each run at one end
+    assert crowding.max() > 5 and 3 < x[np.argmax(crowding)] < 9
+    assert crowding[(x == 0) | (x == 12)].max() < 1e-3

@@ -172,11 +172,11 @@ def test_min_quality_at_the_nostrils():
 
 
 def test_landmarks_drawn_again_below_the_quality_floor():
-    """camel_b.obj (cut open along zero-width slits) keeps faces below 0.3 whatever the
-    landmarks: each retry draws them again and the best draw is kept; without retries the
-    first draw is returned as it is."""
+    """camel_b.obj (cut open along zero-width slits) at half its face count keeps faces
+    below 0.3 whatever the landmarks: each retry draws them again and the best draw is
+    kept; without retries the first draw is returned as it is."""
     V, F = read_mesh(shared("camel_b.obj"))
-    runs = [remesh(V, F, retries=retries) for retries in (0, 1, 2)]
+    runs = [remesh(V, F, len(F) // 2, retries=retries) for retries in (0, 1, 2)]
     assert [r.stats["draws"] for r in runs] == [1, 2, 3]
     q = [radius_ratio(r.V, r.F).min() for r in runs]
     assert q[0] < 0.3 and q[0] <= q[1] <= q[2]
@@ -193,10 +193,46 @@ def test_long_strip_keeps_its_face_count_and_quality():
     for faces in (len(F), len(F) // 2):
         r = remesh(V, F, faces=faces)
         assert abs(len(r.F) - faces) <= 0.05 * faces
-        assert r.stats["cvt_redrawn"] and r.stats["base_flips"] > 0
+        assert r.stats["cvt_redrawn"] and r.stats["base_flips"] > 0 and "crowded_cuts" not in r.stats
         q = radius_ratio(r.V, r.F)
         assert q.min() >= 0.3 and q.mean() >= 0.92
         check_disk(r.V, r.F)
+
+
+def test_crowded_ends_are_cut_off():
+    """Strips 12 and 16 times as long as wide, whose disk maps crowd their ends (35 and
+    51 % of the boundary vertices at the narrowest arc): each end is cut off where the
+    crowding falls below 0.1 and remeshed on its own map, the three pieces welded into
+    one disk. Mean radius ratio at the strip's face count 0.945 / 0.893 -> 0.969 / 0.968,
+    at 1,000 faces 0.924 / 0.796 -> 0.951 / 0.953 (min q 0.445 / 0.024 -> 0.665 / 0.685).
+    A strip 10 long (23 %) stays whole (test_long_strip_keeps_its_face_count_and_quality)."""
+    for length in (12, 16):
+        V, F = strip_disk(length)
+        for faces in (len(F), 1000):
+            r = remesh(V, F, faces=faces)
+            assert r.stats["crowded_cuts"] == 2 and len(r.stats["piece_faces"]) == 3
+            assert abs(len(r.F) - faces) <= 0.05 * faces
+            q = radius_ratio(r.V, r.F)
+            assert q.min() >= 0.5 and q.mean() >= 0.95
+            check_disk(r.V, r.F)
+            assert len(boundary_loops(r.F)) == 1 and euler_characteristic(r.F) == 1
+            # every output vertex on the strip (z = 0.3 sin x)
+            np.testing.assert_allclose(r.V[:, 2], 0.3 * np.sin(r.V[:, 0]), atol=0.02)
+
+
+def test_camel_cut_where_its_map_crowds():
+    """camel_b.obj, cut open along zero-width slits into a disk whose map crowds its legs
+    and neck to 5e-5 of the mean arc per unit length: cut into six pieces (legs, neck,
+    and the body) remeshed on their own maps and welded back along the cuts but not
+    across the slits, into one disk. At its face count mean q 0.925 -> 0.939, min q 0.067
+    -> 0.339, Hausdorff distance 1.70 -> 1.04 % of the diagonal."""
+    V, F = read_mesh(shared("camel_b.obj"))
+    r = remesh(V, F)
+    assert r.stats["crowded_cuts"] == 5 and len(r.stats["piece_faces"]) == 6
+    assert abs(len(r.F) - len(F)) <= 0.05 * len(F)
+    assert len(boundary_loops(r.F)) == 1 and euler_characteristic(r.F) == 1 and not len(nonmanifold_edges(r.F))
+    quality = mesh_quality(r.V, r.F, reference=(V, F))
+    assert quality["q_mean"] >= 0.935 and quality["q_min"] >= 0.3 and quality["hausdorff"] <= 0.011
 
 
 def test_base_mesh_with_more_boundary_than_interior_uses_fewer_levels():

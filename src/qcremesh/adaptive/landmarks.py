@@ -209,7 +209,7 @@ def _weighted(sigma, density):
     return np.r_[0.0, np.cumsum(np.diff(sigma) * (g + np.roll(g, -1)) / 2)]
 
 
-def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corners=None, smooth=True):
+def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corners=None, smooth=True, spacing=None):
     """Boundary landmarks: ``count`` points spaced uniformly by arc length along the
     surface boundary (in the metric of a sizing field 1 / ``density``, where given), the
     sharp corners included, as angles on the circle.
@@ -221,7 +221,10 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     none, at ``bnd[0]``); each piece gets a number of landmarks proportional to its
     length (at least its first vertex) and spaces them evenly. Without ``smooth``, the
     arc length is the boundary's own, so that two pieces along the same polyline (the
-    two sides of a cut) get the same landmarks.
+    two sides of a cut) get the same landmarks. With a ``spacing``, each piece gets its
+    length over the spacing, rounded, instead of its share of ``count``: two boundaries
+    that share a polyline between corners (two meshes remeshed apart and joined along
+    it) get the same landmarks there.
 
     Parameters
     ----------
@@ -241,6 +244,9 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
         others are found within the pieces between them (see :func:`boundary_corners`),
         and those within half a spacing of one dropped.
     smooth : bool
+    spacing : float, optional
+        Distance between landmarks along the boundary (in the metric of ``density``);
+        also the scale of the corners' turning angles.
 
     Returns
     -------
@@ -251,7 +257,7 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     theta_b = boundary_angles(uv, bnd)
     P = np.asarray(V, dtype=np.float64)[bnd]
     s = _arc_length(P)
-    scale = s[-1] / max(count, 3)
+    scale = s[-1] / max(count, 3) if spacing is None else spacing
     found = boundary_corners(V, bnd, corner_angle, scale=scale, pieces=corners)
     sigma = smoothed_arc_length(P, scale if smooth else 0.0, density)
     if corners is not None and len(corners):
@@ -266,7 +272,10 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     s0 = sigma[starts]
     lengths = np.diff(np.r_[s0, s0[0] + total])
     # (pieces of equal length, up to rounding, get as many: the two sides of a cut)
-    per_piece = np.maximum(1, np.round(np.round(lengths / total * max(count, 3), 9)).astype(int))
+    if spacing is None:
+        per_piece = np.maximum(1, np.round(np.round(lengths / total * max(count, 3), 9)).astype(int))
+    else:
+        per_piece = np.maximum(1, np.round(np.round(lengths / spacing, 9)).astype(int))
     piece = np.repeat(np.arange(len(starts)), per_piece)
     rank = np.arange(len(piece)) - np.repeat(np.cumsum(per_piece) - per_piece, per_piece)
     arc = s0[piece] + lengths[piece] * rank / per_piece[piece]

@@ -240,6 +240,13 @@ def _remesh(args, out):
     if "pieces" in st:
         faces = ", ".join(f"{f:,}" for f in st["piece_faces"])
         print(f"{st['pieces']} pieces, remeshed each ({faces} faces; the numbers below are the largest's)", file=out)
+    if "crowded_cuts" in st:
+        faces = ", ".join(f"{f:,}" for f in st["piece_faces"])
+        print(
+            f"cut into {len(st['piece_faces'])} pieces where the disk map crowds the boundary, remeshed each on "
+            f"its own map and welded back ({faces} faces; the numbers below are the largest's)",
+            file=out,
+        )
     if "cut_edges" in st:
         print(f"not a disk: cut open along {st['cut_edges']} edges, remeshed and welded shut", file=out)
     if "hole_sizing_min_ratio" in st:

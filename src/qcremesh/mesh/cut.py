@@ -20,7 +20,7 @@ from .topology import (
     unique_integers,
 )
 
-__all__ = ["cut_along_edges", "cut_to_disk", "shortest_edge_path", "weld_cut"]
+__all__ = ["cut_along_edges", "cut_to_disk", "paths_across", "shortest_edge_path", "weld_along_paths", "weld_cut"]
 
 
 def shortest_edge_path(V, F, source, target):
@@ -41,6 +41,48 @@ def shortest_edge_path(V, F, source, target):
     if previous[target] < 0 and target != source:
         raise ValueError(f"no path along the edges joins vertices {source} and {target}")
     return _walk_back(previous, target)
+
+
+def paths_across(V, F, ends):
+    """Shortest edge paths between pairs of boundary vertices through interior vertices,
+    each through vertices of no earlier path (Dijkstra's algorithm, edges weighted by
+    their length): on a disk, each such path cuts a piece off.
+
+    Parameters
+    ----------
+    V : (n, 3) float
+    F : (m, 3) int
+    ends : (p, 2) int
+        Pairs of distinct boundary vertices.
+
+    Returns
+    -------
+    list of (k,) int64 or None
+        Each path's vertices from ``ends[i, 0]`` to ``ends[i, 1]``, or None where no path
+        joins them (they are neighbours along the boundary, or the earlier paths block
+        the way).
+    """
+    V = np.asarray(V, dtype=np.float64)
+    n = len(V)
+    H = half_edges(F)
+    weight = np.linalg.norm(V[H[:, 0]] - V[H[:, 1]], axis=1)
+    blocked = np.zeros(n, dtype=bool)
+    blocked[boundary_edges(F).ravel()] = True
+    paths = []
+    for source, target in np.asarray(ends, dtype=np.int64).reshape(-1, 2):
+        free = ~blocked
+        free[[source, target]] = True
+        # no edge along the boundary (between the two ends, or from one to the other)
+        ok = free[H[:, 0]] & free[H[:, 1]] & ~(blocked[H[:, 0]] & blocked[H[:, 1]])
+        G = sp.csr_matrix((weight[ok], (H[ok, 0], H[ok, 1])), shape=(n, n))
+        _, previous = dijkstra(G, directed=True, indices=int(source), return_predecessors=True)
+        if previous[target] < 0:
+            paths.append(None)
+            continue
+        path = _walk_back(previous, target)
+        blocked[path] = True
+        paths.append(path)
+    return paths
 
 
 def _walk_back(previous, end):
@@ -312,16 +354,116 @@ def weld_cut(X, F, segments, tol):
     t = np.clip(((X[point] - a[seg]) * d).sum(1) / np.maximum((d * d).sum(1), 1e-300), 0.0, 1.0)
     on_cut = unique_integers(point[np.linalg.norm(a[seg] + t[:, None] * d - X[point], axis=1) <= tol])
     pairs = cKDTree(X[on_cut]).query_pairs(tol, output_type="ndarray")
-    G = sp.csr_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(on_cut),) * 2)
+    return _merge(X, F, on_cut[pairs])
+
+
+def _merge(X, F, pairs):
+    """Merge the vertices of each of ``pairs`` (p, 2) (and so the groups they link), each
+    group into its first vertex at their mean; the vertices kept, the faces renumbered and
+    the index in ``X`` of each vertex kept."""
+    linked = unique_integers(pairs)
+    local = np.searchsorted(linked, pairs)
+    G = sp.csr_matrix((np.ones(len(pairs)), (local[:, 0], local[:, 1])), shape=(len(linked),) * 2)
     groups, group = connected_components(G, directed=False)
     first = np.full(groups, len(X), dtype=np.int64)
-    np.minimum.at(first, group, on_cut)
+    np.minimum.at(first, group, linked)
     total = np.zeros((groups, 3))
-    np.add.at(total, group, X[on_cut])
+    np.add.at(total, group, X[linked])
     X = X.copy()
     X[first] = total / np.bincount(group, minlength=groups)[:, None]
     target = np.arange(len(X))
-    target[on_cut] = first[group]
+    target[linked] = first[group]
     keep = target == np.arange(len(X))
     new = np.cumsum(keep) - 1
     return X[keep], new[target[F]], np.flatnonzero(keep)
+
+
+def _near_polyline(Q, P, tol):
+    """Which of points ``Q`` (q, 3) lie within ``tol`` of the polyline through ``P`` (p, 3),
+    (q,) bool; dense over the q x (p - 1) point-segment pairs (a boundary loop and a
+    path of a few dozen edges, for the points within the path's bounding box)."""
+    near = np.zeros(len(Q), dtype=bool)
+    box = np.flatnonzero(np.all((Q >= P.min(0) - tol) & (Q <= P.max(0) + tol), axis=1))
+    a, d = P[:-1], np.diff(P, axis=0)
+    t = np.einsum("qsk,sk->qs", Q[box, None] - a[None], d) / np.maximum((d * d).sum(1), 1e-300)
+    closest = a[None] + np.clip(t, 0.0, 1.0)[..., None] * d[None]
+    near[box] = (np.linalg.norm(closest - Q[box, None], axis=2) <= tol).any(axis=1)
+    return near
+
+
+def weld_along_paths(X, F, paths, tol):
+    """Join meshes remeshed apart along the paths that cut them apart: on each path, the
+    chain of boundary vertices of one piece from one end of the path to the other, all
+    on the path (within ``tol``), merged vertex by vertex with that of the other piece,
+    at their mean.
+
+    Unlike :func:`weld_cut`, vertices that lie at the same point but not along a path
+    (the two sides of a zero-width slit that a path ends on) stay apart. Where both
+    pieces have an ear at the same place (a boundary vertex with one face, between two
+    vertices of a chain), the weld folds the two faces onto each other: both are dropped,
+    with their middle vertex.
+
+    Parameters
+    ----------
+    X : (k, 3) float
+    F : (l, 3) int
+        The pieces, one mesh.
+    paths : list of (p_i, 3) float
+        Each path's points, end to end.
+    tol : float
+
+    Returns
+    -------
+    X : (k', 3) float
+    F : (l', 3) int64
+        The faces (l' < l where folded ears were dropped).
+    kept : (k',) int64
+        The index in ``X`` of each vertex kept.
+
+    Raises
+    ------
+    ValueError
+        Where a path does not have exactly two such chains with as many vertices at the
+        same points.
+    """
+    X = np.asarray(X, dtype=np.float64)
+    F = np.asarray(F, dtype=np.int64)
+    loops = boundary_loops(F)
+    pairs = []
+    for P in paths:
+        P = np.asarray(P, dtype=np.float64)
+        chains = []
+        for loop in loops:
+            on = _near_polyline(X[loop], P, tol)
+            ends = [np.linalg.norm(X[loop] - P[i], axis=1) <= tol for i in (0, -1)]
+            for i in np.flatnonzero(on & (ends[0] | ends[1])):
+                # forward along the loop, on the path, to the other end
+                other = ends[1] if ends[0][i] else ends[0]
+                j, chain = i, [loop[i]]
+                while len(chain) <= len(loop):
+                    j = (j + 1) % len(loop)
+                    if not on[j]:
+                        break
+                    chain.append(loop[j])
+                    if other[j]:
+                        chains.append(np.array(chain))
+                        break
+        if len(chains) != 2 or len(chains[0]) != len(chains[1]):
+            sizes = " and ".join(str(len(c)) for c in chains) or "no"
+            raise ValueError(f"a path has chains of {sizes} boundary vertices along it, not two alike")
+        a, b = chains
+        if np.abs(X[a] - X[b[::-1]]).max() > tol:
+            raise ValueError("the two chains of boundary vertices along a path are not at the same points")
+        pairs.append(np.column_stack([a, b[::-1]]))
+    X, F, kept = _merge(X, F, np.concatenate(pairs) if pairs else np.zeros((0, 2), dtype=np.int64))
+    # Two faces over the same vertices: ears of both pieces at the same place (a boundary
+    # vertex with one face between two vertices of a chain), folded onto each other.
+    key = np.sort(F, axis=1)
+    _, group, size = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    folded = size[group.ravel()] > 1
+    if folded.any():
+        F = F[~folded]
+        used = np.zeros(len(X), dtype=bool)
+        used[F.ravel()] = True
+        X, F, kept = X[used], (np.cumsum(used) - 1)[F], kept[used]
+    return X, F, kept

@@ -62,7 +62,7 @@ from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import doublearea, vertex_areas
 from ..geometry.quality import corner_radius_ratio_bound, radius_ratio, triangle_angles
 from ..geometry.repair import repair_degenerate_faces
-from ..mesh.cut import cut_to_disk, weld_cut
+from ..mesh.cut import cut_along_edges, cut_to_disk, paths_across, weld_along_paths, weld_cut
 from ..mesh.subdivide import upsample
 from ..mesh.topology import (
     boundary_edges,
@@ -80,6 +80,7 @@ from ..mesh.topology import (
     unreferenced_vertices,
 )
 from ..mesh.validate import DegenerateFaceError, NonManifoldError, OrientationError, TopologyError
+from ..param.crowding import crowded_arcs
 from ..param.disk import disk_conformal_map
 from .min_quality import QUALITY_FLOOR
 from .relax import relax_on_surface
@@ -116,6 +117,24 @@ MAX_CELL_SPREAD = 0.5
 # A base mesh more than this fraction away from its planned face count gets its interior
 # landmarks drawn again, their number corrected.
 COUNT_SLACK = 0.02
+
+# Where the disk map gives more than CROWDED_SHARE of the boundary vertices the narrowest
+# arc (MIN_BOUNDARY_ARC of qcremesh.param.disk: crowded beyond what the landmarks
+# resolve), each run of boundary vertices crowded below CROWDED_RATIO of the mean arc per
+# unit length (crowded_arcs) over at least CROWDED_MIN_EDGES output edges is cut off and
+# remeshed on its own map. Measured on strips 8-16 times as long as wide (test_remesh's
+# strip_disk; 3, 23, 35, 44 and 51 % at the narrowest arc) at their face count, half of
+# it and 1,000 faces: mean q 0.977 / 0.970 / 0.968 -> 0.962 / 0.943 / 0.948 on the
+# strip 8 long, 0.964 / 0.960 -> 0.961 / 0.951 on the one 10 long, but 0.945 / 0.935 /
+# 0.924 -> 0.969 / 0.951 / 0.951 on the one 12 long and 0.893 / 0.894 / 0.796 -> 0.968 /
+# 0.956 / 0.953 on the one 16 long (min q 0.116 / 0.451 / 0.024 -> 0.540 / 0.668 /
+# 0.685). camel_b.obj (35 %): its legs and neck, runs 18-40 edges long. The other disk
+# meshes of ../shared/data have no vertex at the narrowest arc.
+CROWDED_SHARE = 0.3
+CROWDED_RATIO = 0.1
+CROWDED_MIN_EDGES = 16
+# Fewest faces of a piece so cut off (else its path is not cut).
+MIN_PIECE_FACES = 16
 
 # The CVT of the landmarks samples the disk at the parameterization's vertices, subdivided
 # until there are at least this many per landmark.
@@ -324,17 +343,112 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     return RemeshResult(Vo, Fo, result.uv, levels, out_data, result.disk_levels, result.mu, stats, result.times)
 
 
+def _crowded_ends(V, F, dm, edge):
+    """The boundary vertices before and after each run that the disk map ``dm`` crowds
+    (:func:`crowded_arcs` below CROWDED_RATIO over at least CROWDED_MIN_EDGES times
+    ``edge`` of boundary), (p, 2)."""
+    bnd = dm.boundary
+    start, count, _ = crowded_arcs(V, dm.uv, bnd, CROWDED_RATIO)
+    lengths = np.linalg.norm(V[np.roll(bnd, -1)] - V[bnd], axis=1)
+    # (the run's length: its vertices' edges to the next, but the last's)
+    along = np.r_[0.0, np.cumsum(np.r_[lengths, lengths])]
+    long = (count < len(bnd) - 2) & (along[start + count - 1] - along[start] >= CROWDED_MIN_EDGES * edge)
+    return np.column_stack([bnd[(start[long] - 1) % len(bnd)], bnd[(start[long] + count[long]) % len(bnd)]])
+
+
+def _crowded_cuts(V, F, dm, faces):
+    """Paths across the disk map ``dm``'s crowded boundary runs (:func:`_crowded_ends` for
+    the output edge length of ``faces`` faces), each from the boundary vertex before a run
+    to the one after it through interior vertices
+    (:func:`qcremesh.mesh.cut.paths_across`); [] where there is none."""
+    edge = np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * faces))
+    return [p for p in paths_across(V, F, _crowded_ends(V, F, dm, edge)) if p is not None]
+
+
+def _remesh_crowded(V, F, paths, faces, data, stats, options):
+    """:func:`remesh` of a disk whose map crowds parts of the boundary: cut along
+    ``paths`` (from :func:`_crowded_cuts`) into pieces, each remeshed on its own map with
+    a share of the faces by area, a fixed boundary whose corners include the paths' ends,
+    and the boundary edge length planned for the whole (so that both sides of a path get
+    the same vertices), all at the same levels, and welded along the paths
+    (:func:`qcremesh.mesh.cut.weld_along_paths`, every level; a coarse level that does
+    not weld into a disk is dropped). Joined as :func:`_join` with
+    ``stats["crowded_cuts"]``; None where the output does not weld into a disk."""
+    while True:
+        if not paths:
+            return None
+        cut = np.concatenate([np.column_stack([p[:-1], p[1:]]) for p in paths])
+        F_cut, parent = cut_along_edges(F, cut, len(V))
+        count, label = connected_components(F_cut, len(parent))
+        V_cut = V[parent]
+        area = np.bincount(label, doublearea(V_cut, F_cut), count)
+        edge = np.sqrt(4 * area.sum() / 2 / (np.sqrt(3) * faces))
+        ends = np.isin(parent, [p[[0, -1]] for p in paths])
+        on_boundary = np.zeros(len(parent), dtype=bool)
+        on_boundary[boundary_edges(F_cut).ravel()] = True
+        pieces, small = [], []
+        for k in range(count):
+            used, local = np.unique(F_cut[label == k], return_inverse=True)
+            piece_data = {name: np.asarray(v)[parent][used] for name, v in data.items()} if data else data
+            share = int(round(faces * area[k] / area.sum()))
+            pieces.append((V_cut[used], local.reshape(-1, 3), share, np.flatnonzero(ends[used]), piece_data))
+            if share < MIN_PIECE_FACES or on_boundary[used].all():
+                small.append(parent[used])
+        if not small:
+            break
+        # The paths that cut off a piece too small or without an interior vertex go.
+        kept = [p for p in paths if not any(np.isin(p[[0, -1]], u).all() for u in small)]
+        if len(kept) == len(paths):
+            return None
+        paths = kept
+    # Every piece at the levels of the one that can have the fewest.
+    levels = options["levels"]
+    while True:
+        results = [
+            remesh(
+                Vk, Fk, share, fixed_boundary=True, corners=corners, boundary_edge_length=edge, data=piece_data,
+                **dict(options, levels=levels),
+            )
+            for Vk, Fk, share, corners, piece_data in pieces
+        ]
+        used = [r.stats["levels"] for r in results]
+        if min(used) == max(used):
+            break
+        levels = min(used)
+    joined = _join(results, dict(stats, crowded_cuts=len(paths)))
+    segments = [V[p] for p in paths]
+
+    def weld(X, Fo):
+        """The level welded, or None where it does not weld into a disk."""
+        border = boundary_edges(Fo)
+        tol = 1e-9 * np.linalg.norm(X[border[:, 0]] - X[border[:, 1]], axis=1).mean()
+        try:
+            X, Fo, kept = weld_along_paths(X, Fo, segments, tol)
+        except ValueError:
+            return None
+        disk = euler_characteristic(Fo) == 1 and len(boundary_loops(Fo)) == 1
+        return (X, Fo, kept) if disk and not len(nonmanifold_edges(Fo)) else None
+
+    welded = [weld(X, f) for X, f in joined.levels]
+    if welded[-1] is None:
+        return None
+    Vo, Fo, kept = welded[-1]
+    # The hierarchy starts above the last level that does not weld, or whose weld
+    # dropped folded ears (its faces no longer split into the next level's).
+    intact = [level is not None and len(level[1]) == len(f) for level, (_, f) in zip(welded, joined.levels)]
+    first = max([i + 1 for i, ok in enumerate(intact[:-1]) if not ok], default=0)
+    hierarchy = [level[:2] for level in welded[first:]] if intact[-1] else [(Vo, Fo)]
+    out_data = {k: np.asarray(v)[kept] for k, v in joined.data.items()}
+    return RemeshResult(
+        Vo, Fo, joined.uv, hierarchy, out_data, joined.disk_levels, joined.mu, joined.stats, joined.times
+    )
+
+
 def _remesh_pieces(V, F, label, count, faces, sizing, fixed_boundary, data, repairs, options):
     """:func:`remesh` of a mesh in several connected pieces (``label`` (m,), the piece of
     each face, 0..count-1): each piece remeshed on its own with a share of ``faces``
-    proportional to its area (at least 4), and the results joined.
-
-    The levels are those all pieces have, from the output down (a piece with fewer
-    levels than another starts the hierarchy at its own base mesh); the vertices are
-    numbered level by level, every piece's coarser ones first. ``uv``, ``disk_levels``,
-    ``mu`` and the stats are those of the largest piece (the one with the most output
-    faces), with ``stats["pieces"]`` and ``stats["piece_faces"]`` (each piece's output
-    faces); the times are summed."""
+    proportional to its area (at least 4), and the results joined (:func:`_join`, with
+    ``stats["pieces"]``)."""
     area = np.bincount(label, doublearea(V, F), count)
     by_piece = np.split(F[np.argsort(label, kind="stable")], np.cumsum(np.bincount(label, minlength=count))[:-1])
     results = []
@@ -349,6 +463,20 @@ def _remesh_pieces(V, F, label, count, faces, sizing, fixed_boundary, data, repa
                 data=piece_data, **options,
             )
         )
+    return _join(results, dict(repairs, pieces=count))
+
+
+def _join(results, stats):
+    """The remeshes of several pieces (``results``) as one :class:`RemeshResult`.
+
+    The levels are those all pieces have, from the output down (a piece with fewer
+    levels than another starts the hierarchy at its own base mesh); the vertices are
+    numbered level by level, every piece's coarser ones first. ``uv``, ``disk_levels``,
+    ``mu`` and the stats are those of the largest piece (the one with the most output
+    faces), joined with ``stats`` and ``stats["piece_faces"]`` (each piece's output
+    faces), but the sharpest corner, its quality bound, the crowded share of the
+    boundary and the draws, the worst piece's; the times are summed."""
+    count = len(results)
     depth = min(len(r.levels) for r in results)
     levels = [[r.levels[len(r.levels) - depth + i] for r in results] for i in range(depth)]
     # Global numbering: level by level, piece by piece, the vertices new at that level.
@@ -374,7 +502,13 @@ def _remesh_pieces(V, F, label, count, faces, sizing, fixed_boundary, data, repa
         out_data[name] = values
     largest = max(range(count), key=lambda k: len(results[k].F))
     main = results[largest]
-    stats = dict(repairs, **main.stats, pieces=count, piece_faces=[len(r.F) for r in results])
+    stats = dict(stats, **main.stats, piece_faces=[len(r.F) for r in results])
+    # What the warnings read is the worst piece's.
+    for name, worst in (("sharpest_corner_degrees", min), ("corner_quality_bound", min),
+                        ("param_narrowest_share", max), ("draws", max)):
+        values = [r.stats[name] for r in results if name in r.stats]
+        if values:
+            stats[name] = worst(values)
     times = {}
     for r in results:
         for name, t in r.times.items():
@@ -435,6 +569,7 @@ def remesh(
     sizing=None,
     fixed_boundary=False,
     corners=None,
+    boundary_edge_length=None,
     data=None,
     progress=None,
 ):
@@ -447,7 +582,12 @@ def remesh(
     vertices farthest apart along its principal axis), remeshed with ``fixed_boundary``
     and the cut's ends and branch points as ``corners`` (so that the two sides of each
     cut get the same vertices) and closed again (:func:`_remesh_cut`); several pieces are
-    remeshed each (:func:`_remesh_pieces`).
+    remeshed each (:func:`_remesh_pieces`). A disk whose map crowds much of its boundary
+    beyond what the landmarks resolve (long protrusions: a camel cut open along slits,
+    a strip more than about 10 times as long as wide) is cut where it crowds into
+    pieces remeshed on their own maps and welded back (:func:`_remesh_crowded`;
+    ``stats["crowded_cuts"]``, ``stats["piece_faces"]``), without a sizing field, fixed
+    boundary or corners given.
 
     Where the validation refuses the input for faces listed more than once (which make
     their edges non-manifold), faces turned against their neighbours, or for needles and
@@ -532,6 +672,12 @@ def remesh(
     corners : (c,) int, optional
         Input boundary vertices kept as output vertices (boundary corners), besides those
         found by ``corner_angle``.
+    boundary_edge_length : float, optional
+        With ``fixed_boundary``: the length of the output's boundary edges. Each part of
+        the boundary between corners gets its length over this (times 2^levels for the
+        landmarks), rounded, instead of its share of the planned boundary count, so that
+        two meshes remeshed apart that share a border polyline between corners, at the
+        same levels (``stats["levels"]``), get the same vertices along it.
     data : dict of str to (n,) or (n, d) array, optional
         Per-vertex attributes (normals, colours, scalars, UVs) to carry to the output.
     progress : callable, optional
@@ -563,6 +709,8 @@ def remesh(
         raise ValueError("the 'uniform' method takes no sizing")
     if fixed_boundary and (relax == 0 or method == "uniform"):
         raise ValueError("a fixed boundary needs the relaxation (relax > 0) and a method other than 'uniform'")
+    if boundary_edge_length is not None and not (fixed_boundary and boundary_edge_length > 0):
+        raise ValueError("boundary_edge_length must be positive and needs fixed_boundary")
     if corners is not None:
         corners = np.unique(np.asarray(corners, dtype=np.int64))
         if method == "uniform" and len(corners):
@@ -582,6 +730,10 @@ def remesh(
     def done(name):
         times[name] = times.get(name, 0.0) + time.perf_counter() - started[name]
 
+    options = dict(
+        levels=levels, method=method, seed=seed, corner_angle=corner_angle, cvt_iterations=cvt_iterations,
+        relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries, progress=progress,
+    )
     stage("parameterize")
     try:
         try:
@@ -593,10 +745,8 @@ def remesh(
             V, F, data, sizing = repaired
             dm = disk_conformal_map(V, F)
     except TopologyError:
-        options = dict(
-            levels=levels, method=method, seed=seed, corner_angle=corner_angle, cvt_iterations=cvt_iterations,
-            relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries, progress=progress,
-        )
+        if boundary_edge_length is not None:
+            raise ValueError("boundary_edge_length is taken only on a disk") from None
         sizing = "curvature" if curvature else sizing
         result = _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, data, stats, options)
         if result is None:
@@ -606,6 +756,14 @@ def remesh(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces
     )
     done("parameterize")
+    crowded = dm.narrowest_arcs > CROWDED_SHARE * len(dm.boundary)
+    if crowded and sizing is None and not curvature and not fixed_boundary and corners is None and relax > 0 \
+            and method != "uniform":
+        paths = _crowded_cuts(V, F, dm, faces)
+        result = _remesh_crowded(V, F, paths, faces, data, stats, options) if paths else None
+        if result is not None:
+            result.times["parameterize"] = result.times.get("parameterize", 0.0) + times["parameterize"]
+            return result
 
     bnd = dm.boundary
     corner_at = None
@@ -655,6 +813,7 @@ def remesh(
             theta, corner = boundary_landmarks(
                 V, dm.uv, bnd, nb, corner_angle, None if density is None else density[bnd],
                 corners=corner_at, smooth=not fixed_boundary,
+                spacing=None if boundary_edge_length is None else boundary_edge_length * 2**levels,
             )
             stats["boundary_corners"] = int(corner.sum())
             if corner.any():
