@@ -209,8 +209,17 @@ def test_crowded_ends_are_cut_off():
     for length in (12, 16):
         V, F = strip_disk(length)
         for faces in (len(F), 1000):
-            r = remesh(V, F, faces=faces)
+            r = remesh(V, F, faces=faces, data={"x": V[:, 0]})
             assert r.stats["crowded_cuts"] == 2 and len(r.stats["piece_faces"]) == 3
+            # per-vertex data carried through the pieces and the weld
+            np.testing.assert_allclose(r.data["x"], r.V[:, 0], atol=1e-9)
+            # the welded hierarchy: each level's faces split 1-to-4, its vertices first
+            assert np.array_equal(r.levels[-1][1], r.F) and np.array_equal(r.levels[-1][0], r.V)
+            for (X0, F0), (X1, F1) in zip(r.levels, r.levels[1:]):
+                assert len(F1) == 4 * len(F0) and np.array_equal(X1[: len(X0)], X0)
+                # each coarse corner is a corner of one of the face's four children
+                children = F1.reshape(len(F0), 12)
+                assert all((children == F0[:, k : k + 1]).any(axis=1).all() for k in range(3))
             assert abs(len(r.F) - faces) <= 0.05 * faces
             q = radius_ratio(r.V, r.F)
             assert q.min() >= 0.5 and q.mean() >= 0.95
