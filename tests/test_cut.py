@@ -3,7 +3,7 @@ import pytest
 import scipy.sparse as sp
 from scipy.sparse.csgraph import floyd_warshall
 
-from conftest import DATA, grid_disk, holed_disk, sphere_mesh, torus_mesh
+from conftest import DATA, grid_disk, holed_disk, shared, sphere_mesh, torus_mesh
 from qcremesh.geometry.distance import point_mesh_distance
 from qcremesh.geometry.operators import doublearea
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
@@ -296,3 +296,19 @@ def test_remeshes_apart_with_one_boundary_edge_length_weld():
     assert abs(len(X) - len(welded) - (along + 1)) <= 2
     with pytest.raises(ValueError, match="boundary_edge_length must be positive and needs fixed_boundary"):
         remesh(V, F, boundary_edge_length=edge)
+
+
+def test_cut_disk_cut_again_where_its_map_crowds():
+    """Hand1.off (genus 1, one boundary loop) cut open into a disk whose map crowds 8.6 %
+    of its boundary to the narrowest arc: the crowded part is cut off too (its path's ends
+    and their twins on the other sides of the seams as corners), remeshed on its own map,
+    welded along the path and then along the seams. At half its face count min q 0.034 ->
+    0.462, Hausdorff 0.44 -> 0.36 % of the diagonal, mean q 0.985 -> 0.987."""
+    V, F = read_mesh(shared("Hand1.off"))
+    r = remesh(V, F, len(F) // 2)
+    assert r.stats["crowded_cuts"] >= 1 and "cut_edges" in r.stats
+    assert euler_characteristic(r.F) == -1 and len(boundary_loops(r.F)) == 1
+    assert not len(nonmanifold_edges(r.F)) and not len(nonmanifold_vertices(r.F))
+    assert abs(len(r.F) - len(F) // 2) <= 0.05 * (len(F) // 2)
+    quality = mesh_quality(r.V, r.F, reference=(V, F))
+    assert quality["q_min"] >= 0.3 and quality["q_mean"] >= 0.985 and quality["hausdorff"] <= 0.004

@@ -41,6 +41,7 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from ..adaptive.basemesh import (
     delaunay_disk_mesh,
@@ -131,6 +132,13 @@ COUNT_SLACK = 0.02
 # 0.685). camel_b.obj (35 %): its legs and neck, runs 18-40 edges long. The other disk
 # meshes of ../shared/data have no vertex at the narrowest arc.
 CROWDED_SHARE = 0.3
+# With a fixed boundary (a surface cut open into a disk, whose two sides of each cut the
+# caller welds; the boundary vertices at the same points as the paths' ends are corners
+# too, so both sides keep the same vertices), above CROWDED_SHARE_FIXED: Hand1.off's cut
+# disk, 8.6 % (at its face count / half: min q 0.028 / 0.034 -> 0.396 / 0.462, Hausdorff
+# 0.33 / 0.44 -> 0.17 / 0.36 %); the cut disks of the torus, the holed disk, the sphere,
+# decimated-max and alex_3 of the tests and the benchmark have at most 1.4 %.
+CROWDED_SHARE_FIXED = 0.05
 CROWDED_RATIO = 0.1
 CROWDED_MIN_EDGES = 16
 # Fewest faces of a piece so cut off (else its path is not cut).
@@ -281,6 +289,31 @@ def _plan(V, F, bnd, faces, levels, density=None):
     return nb, ni, perimeter / nb, base_faces
 
 
+def _levels_with_interior(V, F, bnd, faces, levels, density=None):
+    """The most levels, up to ``levels``, at which the base mesh planned by :func:`_plan`
+    has at least as many interior landmarks as boundary ones. A base mesh with fewer is
+    mostly chords between boundary landmarks, which neither subdivision nor relaxation
+    turns into a regular mesh (camel_b.obj, cut open along slits into a disk whose
+    boundary is 28 times the square root of its area: 18 interior landmarks against 89 at
+    half its face count, mean radius ratio 0.51); with fewer levels the base mesh gets an
+    interior."""
+    while levels > 0:
+        nb, ni, _, _ = _plan(V, F, bnd, faces, levels, density)
+        if ni >= nb:
+            break
+        levels -= 1
+    return levels
+
+
+def _planned_levels(V, F, faces, levels):
+    """The levels :func:`remesh` plans for the disk (V, F) at ``faces`` faces: fewer where
+    the base mesh would get under MIN_BASE_FACES faces or more boundary landmarks than
+    interior ones (:func:`_levels_with_interior`), before the CVT's test of its cells."""
+    while levels > 0 and faces / 4**levels < MIN_BASE_FACES:
+        levels -= 1
+    return _levels_with_interior(V, F, boundary_loop(F), faces, levels)
+
+
 def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     """:func:`remesh` of a surface that is not a disk (closed, with holes, with handles):
     cut open into a disk (:func:`qcremesh.mesh.cut.cut_to_disk`), remeshed with a fixed
@@ -365,15 +398,21 @@ def _crowded_cuts(V, F, dm, faces):
     return [p for p in paths_across(V, F, _crowded_ends(V, F, dm, edge)) if p is not None]
 
 
-def _remesh_crowded(V, F, paths, faces, data, stats, options):
+def _remesh_crowded(V, F, paths, faces, corners, data, stats, options):
     """:func:`remesh` of a disk whose map crowds parts of the boundary: cut along
     ``paths`` (from :func:`_crowded_cuts`) into pieces, each remeshed on its own map with
-    a share of the faces by area, a fixed boundary whose corners include the paths' ends,
-    and the boundary edge length planned for the whole (so that both sides of a path get
-    the same vertices), all at the same levels, and welded along the paths
+    a share of the faces by area, a fixed boundary whose corners are the paths' ends and
+    the input vertices ``corners`` on it, and the boundary edge length planned for the
+    whole (so that both sides of a path get the same vertices), all at the same levels,
+    and welded along the paths
     (:func:`qcremesh.mesh.cut.weld_along_paths`, every level; a coarse level that does
-    not weld into a disk is dropped). Joined as :func:`_join` with
-    ``stats["crowded_cuts"]``; None where the output does not weld into a disk."""
+    not weld into a disk is dropped). A path that would cut off a piece of fewer than
+    MIN_PIECE_FACES faces, or without an interior vertex, or planned at fewer levels than
+    one below the largest piece (:func:`_planned_levels`; every piece would take them:
+    Hand1.off's cut disk at half its face count, two pieces of a few hundred faces at no
+    level, took 11.9 s instead of 5.3 s, mean q 0.966 instead of 0.987), is not cut.
+    Joined as :func:`_join` with ``stats["crowded_cuts"]``; None where the output does
+    not weld into a disk."""
     while True:
         if not paths:
             return None
@@ -383,17 +422,24 @@ def _remesh_crowded(V, F, paths, faces, data, stats, options):
         V_cut = V[parent]
         area = np.bincount(label, doublearea(V_cut, F_cut), count)
         edge = np.sqrt(4 * area.sum() / 2 / (np.sqrt(3) * faces))
-        ends = np.isin(parent, [p[[0, -1]] for p in paths])
+        ends = np.isin(parent, np.concatenate([np.concatenate([p[[0, -1]] for p in paths]), corners]))
         on_boundary = np.zeros(len(parent), dtype=bool)
         on_boundary[boundary_edges(F_cut).ravel()] = True
-        pieces, small = [], []
+        pieces, small, piece_vertices = [], [], []
         for k in range(count):
             used, local = np.unique(F_cut[label == k], return_inverse=True)
+            piece_vertices.append((used, local))
             piece_data = {name: np.asarray(v)[parent][used] for name, v in data.items()} if data else data
             share = int(round(faces * area[k] / area.sum()))
             pieces.append((V_cut[used], local.reshape(-1, 3), share, np.flatnonzero(ends[used]), piece_data))
             if share < MIN_PIECE_FACES or on_boundary[used].all():
                 small.append(parent[used])
+        if not small:
+            # Pieces planned at fewer levels than one below the largest's (which all
+            # pieces would then take) are not cut off.
+            planned = [_planned_levels(Vk, Fk, share, options["levels"]) for Vk, Fk, share, _, _ in pieces]
+            most = planned[int(np.argmax([share for _, _, share, _, _ in pieces]))]
+            small = [parent[used] for (used, _), level in zip(piece_vertices, planned) if level < most - 1]
         if not small:
             break
         # The paths that cut off a piece too small or without an interior vertex go.
@@ -586,8 +632,8 @@ def remesh(
     beyond what the landmarks resolve (long protrusions: a camel cut open along slits,
     a strip more than about 10 times as long as wide) is cut where it crowds into
     pieces remeshed on their own maps and welded back (:func:`_remesh_crowded`;
-    ``stats["crowded_cuts"]``, ``stats["piece_faces"]``), without a sizing field, fixed
-    boundary or corners given.
+    ``stats["crowded_cuts"]``, ``stats["piece_faces"]``), without a sizing field (so a
+    cut disk with holes shortened around, face-YH.off's, is not).
 
     Where the validation refuses the input for faces listed more than once (which make
     their edges non-manifold), faces turned against their neighbours, or for needles and
@@ -756,11 +802,20 @@ def remesh(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces
     )
     done("parameterize")
-    crowded = dm.narrowest_arcs > CROWDED_SHARE * len(dm.boundary)
-    if crowded and sizing is None and not curvature and not fixed_boundary and corners is None and relax > 0 \
+    crowded = dm.narrowest_arcs > (CROWDED_SHARE_FIXED if fixed_boundary else CROWDED_SHARE) * len(dm.boundary)
+    if crowded and sizing is None and not curvature and boundary_edge_length is None and relax > 0 \
             and method != "uniform":
         paths = _crowded_cuts(V, F, dm, faces)
-        result = _remesh_crowded(V, F, paths, faces, data, stats, options) if paths else None
+        given = np.zeros(0, dtype=np.int64) if corners is None else corners
+        if fixed_boundary and paths:
+            # the boundary vertices at the same points as the paths' ends (their twins
+            # on the other side of a cut that the caller welds) are corners too
+            bnd = dm.boundary
+            twins = cKDTree(V[bnd]).query_pairs(1e-9 * np.linalg.norm(np.ptp(V, axis=0)), output_type="ndarray")
+            twins = bnd[twins]
+            ends = np.concatenate([p[[0, -1]] for p in paths])
+            given = np.union1d(given, twins[np.isin(twins, ends).any(axis=1)].ravel())
+        result = _remesh_crowded(V, F, paths, faces, given, data, stats, options) if paths else None
         if result is not None:
             result.times["parameterize"] = result.times.get("parameterize", 0.0) + times["parameterize"]
             return result
@@ -790,15 +845,8 @@ def remesh(
     # Where the CVT's cells come out far from equal on the surface (above MAX_CELL_SPREAD),
     # fewer levels (more landmarks) are planned and the landmarks drawn again.
     while True:
+        levels = _levels_with_interior(V, F, bnd, faces, levels, density)
         nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels, density)
-        # A base mesh with fewer interior landmarks than boundary ones is mostly chords
-        # between boundary landmarks, which neither subdivision nor relaxation turns into a
-        # regular mesh (camel_b.obj, cut open along slits into a disk whose boundary is 28
-        # times the square root of its area: 18 interior landmarks against 89 at half its
-        # face count, mean radius ratio 0.51); with fewer levels the base mesh gets an interior.
-        while levels > 0 and ni < nb:
-            levels -= 1
-            nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels, density)
         stats["levels"] = levels
 
         # What the landmarks of every draw share: the boundary landmarks, and the samples of
