@@ -802,24 +802,6 @@ def remesh(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces
     )
     done("parameterize")
-    crowded = dm.narrowest_arcs > (CROWDED_SHARE_FIXED if fixed_boundary else CROWDED_SHARE) * len(dm.boundary)
-    if crowded and sizing is None and not curvature and boundary_edge_length is None and relax > 0 \
-            and method != "uniform":
-        paths = _crowded_cuts(V, F, dm, faces)
-        given = np.zeros(0, dtype=np.int64) if corners is None else corners
-        if fixed_boundary and paths:
-            # the boundary vertices at the same points as the paths' ends (their twins
-            # on the other side of a cut that the caller welds) are corners too
-            bnd = dm.boundary
-            twins = cKDTree(V[bnd]).query_pairs(1e-9 * np.linalg.norm(np.ptp(V, axis=0)), output_type="ndarray")
-            twins = bnd[twins]
-            ends = np.concatenate([p[[0, -1]] for p in paths])
-            given = np.union1d(given, twins[np.isin(twins, ends).any(axis=1)].ravel())
-        result = _remesh_crowded(V, F, paths, faces, given, data, stats, options) if paths else None
-        if result is not None:
-            result.times["parameterize"] = result.times.get("parameterize", 0.0) + times["parameterize"]
-            return result
-
     bnd = dm.boundary
     corner_at = None
     if corners is not None:
@@ -828,6 +810,22 @@ def remesh(
         corner_at = position[corners[(corners >= 0) & (corners < len(V))]]
         if len(corner_at) != len(corners) or (corner_at < 0).any():
             raise ValueError("corners must be vertices of the boundary")
+    crowded = dm.narrowest_arcs > (CROWDED_SHARE_FIXED if fixed_boundary else CROWDED_SHARE) * len(dm.boundary)
+    if crowded and sizing is None and not curvature and boundary_edge_length is None and relax > 0 \
+            and method != "uniform":
+        paths = _crowded_cuts(V, F, dm, faces)
+        given = np.zeros(0, dtype=np.int64) if corners is None else corners
+        if fixed_boundary and paths:
+            # the boundary vertices at the same points as the paths' ends (their twins
+            # on the other side of a cut that the caller welds) are corners too
+            twins = cKDTree(V[bnd]).query_pairs(1e-9 * np.linalg.norm(np.ptp(V, axis=0)), output_type="ndarray")
+            twins = bnd[twins]
+            ends = np.concatenate([p[[0, -1]] for p in paths])
+            given = np.union1d(given, twins[np.isin(twins, ends).any(axis=1)].ravel())
+        result = _remesh_crowded(V, F, paths, faces, given, data, stats, options) if paths else None
+        if result is not None:
+            result.times["parameterize"] = result.times.get("parameterize", 0.0) + times["parameterize"]
+            return result
     if curvature:
         edge = np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * faces))
         sizing = curvature_sizing(V, F, edge)
