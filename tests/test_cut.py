@@ -312,3 +312,25 @@ def test_cut_disk_cut_again_where_its_map_crowds():
     assert abs(len(r.F) - len(F) // 2) <= 0.05 * (len(F) // 2)
     quality = mesh_quality(r.V, r.F, reference=(V, F))
     assert quality["q_min"] >= 0.3 and quality["q_mean"] >= 0.985 and quality["hausdorff"] <= 0.004
+
+
+def test_cut_disk_remeshed_whole_where_its_crowded_pieces_do_not_weld(monkeypatch):
+    """Where the seams of a cut disk cut again where it crowds do not weld (here: the first
+    weld made to leave the mesh as it is), the cut disk is remeshed once more without
+    that cutting (cut_crowded=False), and the output welds into the input's topology."""
+    import qcremesh.remeshing.pipeline as pipeline
+
+    V, F = read_mesh(shared("Hand1.off"))
+    assert "crowded_cuts" in remesh(V, F, len(F) // 4).stats
+    calls = []
+
+    def weld_once_in_vain(X, G, segments, tol):
+        calls.append(len(G))
+        if len(calls) == 1:
+            return X, G, np.arange(len(X))
+        return weld_cut(X, G, segments, tol)
+
+    monkeypatch.setattr(pipeline, "weld_cut", weld_once_in_vain)
+    r = remesh(V, F, len(F) // 4)
+    assert "crowded_cuts" not in r.stats and len(calls) >= 2
+    assert euler_characteristic(r.F) == -1 and len(boundary_loops(r.F)) == 1 and not len(nonmanifold_edges(r.F))

@@ -346,10 +346,10 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     on_boundary = np.zeros(len(V), dtype=bool)
     on_boundary[boundary_edges(F).ravel()] = True
     corner = (degree > 0) & ((degree != 2) | on_boundary)
+    cut_corners = np.flatnonzero(corner[parent] & np.isin(np.arange(len(parent)), boundary_edges(F_cut)))
     result = remesh(
-        V[parent], F_cut, faces, sizing=cut_sizing, fixed_boundary=True,
-        corners=np.flatnonzero(corner[parent] & np.isin(np.arange(len(parent)), boundary_edges(F_cut))),
-        data=cut_data, **options,
+        V[parent], F_cut, faces, sizing=cut_sizing, fixed_boundary=True, corners=cut_corners, data=cut_data,
+        **options,
     )
     chi, loops = euler_characteristic(F), len(boundary_loops(F))
 
@@ -362,6 +362,14 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
         return (X, Fo, kept) if welded and not len(nonmanifold_edges(Fo)) else None
 
     welded = weld(result.V, result.F)
+    if welded is None and "crowded_cuts" in result.stats:
+        # The cut disk cut again where its map crowds, whose seams did not weld: once more
+        # without that.
+        result = remesh(
+            V[parent], F_cut, faces, sizing=cut_sizing, fixed_boundary=True, corners=cut_corners, data=cut_data,
+            **dict(options, cut_crowded=False),
+        )
+        welded = weld(result.V, result.F)
     if welded is None:
         raise ValueError("the remesh of the cut surface does not weld back into the input's topology")
     Vo, Fo, kept = welded
@@ -616,6 +624,7 @@ def remesh(
     fixed_boundary=False,
     corners=None,
     boundary_edge_length=None,
+    cut_crowded=True,
     data=None,
     progress=None,
 ):
@@ -724,6 +733,10 @@ def remesh(
         landmarks), rounded, instead of its share of the planned boundary count, so that
         two meshes remeshed apart that share a border polyline between corners, at the
         same levels (``stats["levels"]``), get the same vertices along it.
+    cut_crowded : bool
+        Cut a disk whose map crowds its boundary into pieces remeshed apart and welded
+        back (:func:`_remesh_crowded`); without, it is remeshed whole (the levels planned
+        for the whole, the crowded parts less regular).
     data : dict of str to (n,) or (n, d) array, optional
         Per-vertex attributes (normals, colours, scalars, UVs) to carry to the output.
     progress : callable, optional
@@ -778,7 +791,8 @@ def remesh(
 
     options = dict(
         levels=levels, method=method, seed=seed, corner_angle=corner_angle, cvt_iterations=cvt_iterations,
-        relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries, progress=progress,
+        relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries, cut_crowded=cut_crowded,
+        progress=progress,
     )
     stage("parameterize")
     try:
@@ -811,7 +825,7 @@ def remesh(
         if len(corner_at) != len(corners) or (corner_at < 0).any():
             raise ValueError("corners must be vertices of the boundary")
     crowded = dm.narrowest_arcs > (CROWDED_SHARE_FIXED if fixed_boundary else CROWDED_SHARE) * len(dm.boundary)
-    if crowded and sizing is None and not curvature and boundary_edge_length is None and relax > 0 \
+    if cut_crowded and crowded and sizing is None and not curvature and boundary_edge_length is None and relax > 0 \
             and method != "uniform":
         paths = _crowded_cuts(V, F, dm, faces)
         given = np.zeros(0, dtype=np.int64) if corners is None else corners
