@@ -455,16 +455,17 @@ def _remesh_crowded(V, F, paths, faces, corners, data, stats, options):
         if len(kept) == len(paths):
             return None
         paths = kept
-    # Every piece at the levels of the one that can have the fewest.
+    # Every piece at the levels of the one that can have the fewest (those that had more
+    # remeshed again).
+    results = [None] * len(pieces)
     levels = options["levels"]
     while True:
-        results = [
-            remesh(
-                Vk, Fk, share, fixed_boundary=True, corners=corners, boundary_edge_length=edge, data=piece_data,
-                **dict(options, levels=levels),
-            )
-            for Vk, Fk, share, corners, piece_data in pieces
-        ]
+        for k, (Vk, Fk, share, corners, piece_data) in enumerate(pieces):
+            if results[k] is None or results[k].stats["levels"] > levels:
+                results[k] = remesh(
+                    Vk, Fk, share, fixed_boundary=True, corners=corners, boundary_edge_length=edge,
+                    data=piece_data, **dict(options, levels=levels),
+                )
         used = [r.stats["levels"] for r in results]
         if min(used) == max(used):
             break
