@@ -315,3 +315,19 @@ def test_remesh_cli_takes_closed_surfaces_holes_and_handles(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == [
         "h.obj", "holes.ply", "r.obj", "sphere.ply", "t.obj", "torus.ply", "two.obj", "two.ply"
     ]
+
+
+def test_remesh_cli_whole_keeps_a_crowded_disk_in_one_piece(tmp_path, capsys):
+    """A strip 16 times as long as wide: cut into three pieces where its map crowds by
+    default (no warning then), remeshed in one piece with --whole, which the crowding
+    warning then follows."""
+    path = tmp_path / "strip.obj"
+    write_mesh(path, *strip_disk(16))
+    assert main(["remesh", str(path), "-o", str(tmp_path / "cut.ply"), "--faces", "1000"]) == 0
+    captured = capsys.readouterr()
+    assert "\ncut into 3 pieces where the disk map crowds the boundary" in captured.out
+    assert "warning" not in captured.err
+    assert main(["remesh", str(path), "-o", str(tmp_path / "whole.ply"), "--faces", "1000", "--whole"]) == 0
+    captured = capsys.readouterr()
+    assert "cut into" not in captured.out
+    assert "qcremesh: warning: the disk map crowds 51 % of the boundary vertices to its narrowest arc" in captured.err

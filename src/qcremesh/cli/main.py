@@ -118,6 +118,11 @@ def _parser():
         help="grade the edge lengths: 'curvature' (shorter where the surface bends at their scale) or the name "
         "of a per-vertex array of the input holding the relative edge length wanted",
     )
+    r.add_argument(
+        "--whole",
+        action="store_true",
+        help="remesh a disk whose map crowds its boundary in one piece, instead of cutting the crowded parts off",
+    )
     r.add_argument("--report", metavar="DIR", help="write figures and report.html into DIR")
 
     m = sub.add_parser("quality", help="triangle quality of a mesh, and its distance to a reference")
@@ -208,7 +213,7 @@ def _remesh(args, out):
     try:
         result = remesh(
             V, F, args.faces, levels=args.levels, method=args.method, seed=args.seed, relax=args.relax,
-            sizing=sizing, data=data, progress=update,
+            sizing=sizing, cut_crowded=not args.whole, data=data, progress=update,
         )
     except MeshError as exc:
         raise CommandError(f"{args.input}: {exc}") from exc
