@@ -314,6 +314,42 @@ def _planned_levels(V, F, faces, levels):
     return _levels_with_interior(V, F, boundary_loop(F), faces, levels)
 
 
+def _output_edge_length(V, F, faces):
+    """The edge length of ``faces`` equilateral triangles of the surface's area (the mean
+    output edge length planned)."""
+    return np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * faces))
+
+
+def _weld_levels(levels, join, chi, loops):
+    """Each level (X, F) of a remesh joined by ``join(X, F, tol)`` -> (X, F, kept) (a
+    ValueError where it cannot; ``tol`` 1e-9 of the level's mean boundary edge length) and
+    kept where it then has Euler characteristic ``chi``, ``loops`` boundary loops and only
+    manifold edges. Returns the output level's (X, F, kept) and the hierarchy, which
+    starts above the last coarser level that does not join so, or whose join dropped
+    faces (which then no longer split 1-to-4 into the next level's); None where the
+    output level does not join."""
+
+    def joined(X, Fo):
+        border = boundary_edges(Fo)
+        tol = 1e-9 * np.linalg.norm(X[border[:, 0]] - X[border[:, 1]], axis=1).mean()
+        try:
+            Xw, Fw, kept = join(X, Fo, tol)
+        except ValueError:
+            return None
+        ok = euler_characteristic(Fw) == chi and len(boundary_loops(Fw)) == loops and not len(nonmanifold_edges(Fw))
+        return (Xw, Fw, kept) if ok else None
+
+    # the output level first: the coarser ones only where it joins
+    output = joined(*levels[-1])
+    if output is None:
+        return None
+    welded = [joined(X, Fo) for X, Fo in levels[:-1]] + [output]
+    intact = [level is not None and len(level[1]) == len(f) for level, (_, f) in zip(welded, levels)]
+    first = max([i + 1 for i, ok in enumerate(intact[:-1]) if not ok], default=0)
+    hierarchy = [level[:2] for level in welded[first:]] if intact[-1] else [welded[-1][:2]]
+    return welded[-1], hierarchy
+
+
 def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     """:func:`remesh` of a surface that is not a disk (closed, with holes, with handles):
     cut open into a disk (:func:`qcremesh.mesh.cut.cut_to_disk`), remeshed with a fixed
@@ -332,7 +368,7 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
         F_cut, parent, cut = cut_to_disk(V, F, len(V))
     except ValueError as error:
         raise TopologyError(f"cannot cut the surface open into a disk: {error}") from error
-    edge = np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * faces))
+    edge = _output_edge_length(V, F, faces)
     holes = hole_sizing(V, F, edge)
     if holes.min() < 1:
         if isinstance(sizing, str):
@@ -353,15 +389,11 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     )
     chi, loops = euler_characteristic(F), len(boundary_loops(F))
 
-    def weld(X, Fo):
-        """The level welded, or None where it does not weld back into the input's topology."""
-        border = boundary_edges(Fo)
-        tol = 1e-9 * np.linalg.norm(X[border[:, 0]] - X[border[:, 1]], axis=1).mean()
-        X, Fo, kept = weld_cut(X, Fo, V[cut], tol)
-        welded = euler_characteristic(Fo) == chi and len(boundary_loops(Fo)) == loops
-        return (X, Fo, kept) if welded and not len(nonmanifold_edges(Fo)) else None
+    def weld(levels):
+        """The levels welded shut (:func:`_weld_levels`), or None."""
+        return _weld_levels(levels, lambda X, Fo, tol: weld_cut(X, Fo, V[cut], tol), chi, loops)
 
-    welded = weld(result.V, result.F)
+    welded = weld(result.levels)
     if welded is None and "crowded_cuts" in result.stats:
         # The cut disk cut again where its map crowds, whose seams did not weld: once more
         # without that.
@@ -369,16 +401,13 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
             V[parent], F_cut, faces, sizing=cut_sizing, fixed_boundary=True, corners=cut_corners, data=cut_data,
             **dict(options, cut_crowded=False),
         )
-        welded = weld(result.V, result.F)
+        welded = weld(result.levels)
     if welded is None:
         raise ValueError("the remesh of the cut surface does not weld back into the input's topology")
-    Vo, Fo, kept = welded
     # A coarse level can have a face across two copies of a branch point of the cut
     # (the corners of the disk where a handle's two loops meet), which the weld folds
     # away: the levels start above the last such one.
-    levels = [weld(X, f) for X, f in result.levels]
-    first = max([i + 1 for i, level in enumerate(levels) if level is None], default=0)
-    levels = [level[:2] for level in levels[first:]]
+    (Vo, Fo, kept), levels = welded
     out_data = {k: np.asarray(v)[kept] for k, v in result.data.items()}
     stats = dict(repairs, **result.stats, cut_edges=len(cut))
     return RemeshResult(Vo, Fo, result.uv, levels, out_data, result.disk_levels, result.mu, stats, result.times)
@@ -402,7 +431,7 @@ def _crowded_cuts(V, F, dm, faces):
     the output edge length of ``faces`` faces), each from the boundary vertex before a run
     to the one after it through interior vertices
     (:func:`qcremesh.mesh.cut.paths_across`); [] where there is none."""
-    edge = np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * faces))
+    edge = _output_edge_length(V, F, faces)
     return [p for p in paths_across(V, F, _crowded_ends(V, F, dm, edge)) if p is not None]
 
 
@@ -429,25 +458,25 @@ def _remesh_crowded(V, F, paths, faces, corners, data, stats, options):
         count, label = connected_components(F_cut, len(parent))
         V_cut = V[parent]
         area = np.bincount(label, doublearea(V_cut, F_cut), count)
-        edge = np.sqrt(4 * area.sum() / 2 / (np.sqrt(3) * faces))
+        edge = _output_edge_length(V, F, faces)
         ends = np.isin(parent, np.concatenate([np.concatenate([p[[0, -1]] for p in paths]), corners]))
         on_boundary = np.zeros(len(parent), dtype=bool)
         on_boundary[boundary_edges(F_cut).ravel()] = True
-        pieces, small, piece_vertices = [], [], []
+        pieces, small, members = [], [], []
         for k in range(count):
             used, local = np.unique(F_cut[label == k], return_inverse=True)
-            piece_vertices.append((used, local))
+            members.append(parent[used])
             piece_data = {name: np.asarray(v)[parent][used] for name, v in data.items()} if data else data
             share = int(round(faces * area[k] / area.sum()))
             pieces.append((V_cut[used], local.reshape(-1, 3), share, np.flatnonzero(ends[used]), piece_data))
             if share < MIN_PIECE_FACES or on_boundary[used].all():
-                small.append(parent[used])
+                small.append(members[-1])
         if not small:
             # Pieces planned at fewer levels than one below the largest's (which all
             # pieces would then take) are not cut off.
             planned = [_planned_levels(Vk, Fk, share, options["levels"]) for Vk, Fk, share, _, _ in pieces]
             most = planned[int(np.argmax([share for _, _, share, _, _ in pieces]))]
-            small = [parent[used] for (used, _), level in zip(piece_vertices, planned) if level < most - 1]
+            small = [vertices for vertices, level in zip(members, planned) if level < most - 1]
         if not small:
             break
         # The paths that cut off a piece too small or without an interior vertex go.
@@ -472,27 +501,10 @@ def _remesh_crowded(V, F, paths, faces, corners, data, stats, options):
         levels = min(used)
     joined = _join(results, dict(stats, crowded_cuts=len(paths)))
     segments = [V[p] for p in paths]
-
-    def weld(X, Fo):
-        """The level welded, or None where it does not weld into a disk."""
-        border = boundary_edges(Fo)
-        tol = 1e-9 * np.linalg.norm(X[border[:, 0]] - X[border[:, 1]], axis=1).mean()
-        try:
-            X, Fo, kept = weld_along_paths(X, Fo, segments, tol)
-        except ValueError:
-            return None
-        disk = euler_characteristic(Fo) == 1 and len(boundary_loops(Fo)) == 1
-        return (X, Fo, kept) if disk and not len(nonmanifold_edges(Fo)) else None
-
-    welded = [weld(X, f) for X, f in joined.levels]
-    if welded[-1] is None:
+    welded = _weld_levels(joined.levels, lambda X, Fo, tol: weld_along_paths(X, Fo, segments, tol), 1, 1)
+    if welded is None:
         return None
-    Vo, Fo, kept = welded[-1]
-    # The hierarchy starts above the last level that does not weld, or whose weld
-    # dropped folded ears (its faces no longer split into the next level's).
-    intact = [level is not None and len(level[1]) == len(f) for level, (_, f) in zip(welded, joined.levels)]
-    first = max([i + 1 for i, ok in enumerate(intact[:-1]) if not ok], default=0)
-    hierarchy = [level[:2] for level in welded[first:]] if intact[-1] else [(Vo, Fo)]
+    (Vo, Fo, kept), hierarchy = welded
     out_data = {k: np.asarray(v)[kept] for k, v in joined.data.items()}
     return RemeshResult(
         Vo, Fo, joined.uv, hierarchy, out_data, joined.disk_levels, joined.mu, joined.stats, joined.times
@@ -842,8 +854,7 @@ def remesh(
             result.times["parameterize"] = result.times.get("parameterize", 0.0) + times["parameterize"]
             return result
     if curvature:
-        edge = np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * faces))
-        sizing = curvature_sizing(V, F, edge)
+        sizing = curvature_sizing(V, F, _output_edge_length(V, F, faces))
     density = None if sizing is None else 1.0 / sizing
     if density is not None:
         stats["sizing_min_ratio"] = float(sizing.min() / sizing.max())
