@@ -344,17 +344,27 @@ def weld_cut(X, F, segments, tol):
     F = np.asarray(F, dtype=np.int64)
     segments = np.asarray(segments, dtype=np.float64).reshape(-1, 2, 3)
     border = unique_integers(boundary_edges(F))
-    a, b = segments[:, 0], segments[:, 1]
-    reach = np.linalg.norm(b - a, axis=1).max() / 2 + tol if len(segments) else 0.0
-    near = cKDTree((a + b) / 2).query_ball_point(X[border], reach) if len(segments) else [[]] * len(border)
-    count = np.array([len(c) for c in near])
-    point = np.repeat(border, count)
-    seg = np.concatenate([np.asarray(c, dtype=np.int64) for c in near]) if count.sum() else np.zeros(0, np.int64)
-    d = b[seg] - a[seg]
-    t = np.clip(((X[point] - a[seg]) * d).sum(1) / np.maximum((d * d).sum(1), 1e-300), 0.0, 1.0)
-    on_cut = unique_integers(point[np.linalg.norm(a[seg] + t[:, None] * d - X[point], axis=1) <= tol])
+    on_cut = border[_on_segments(X[border], segments[:, 0], segments[:, 1], tol)]
     pairs = cKDTree(X[on_cut]).query_pairs(tol, output_type="ndarray")
     return _merge(X, F, on_cut[pairs])
+
+
+def _on_segments(Q, a, b, tol):
+    """Which of points ``Q`` (q, 3) lie within ``tol`` of one of the segments a -> b
+    ((s, 3) each), (q,) bool: each point against the segments whose midpoints are within
+    half the longest segment (and ``tol``) of it."""
+    if not len(a):
+        return np.zeros(len(Q), dtype=bool)
+    reach = np.linalg.norm(b - a, axis=1).max() / 2 + tol
+    near = cKDTree((a + b) / 2).query_ball_point(Q, reach)
+    count = np.array([len(c) for c in near])
+    point = np.repeat(np.arange(len(Q)), count)
+    seg = np.concatenate([np.asarray(c, dtype=np.int64) for c in near]) if count.sum() else np.zeros(0, np.int64)
+    d = b[seg] - a[seg]
+    t = np.clip(((Q[point] - a[seg]) * d).sum(1) / np.maximum((d * d).sum(1), 1e-300), 0.0, 1.0)
+    on = np.zeros(len(Q), dtype=bool)
+    on[point[np.linalg.norm(a[seg] + t[:, None] * d - Q[point], axis=1) <= tol]] = True
+    return on
 
 
 def _merge(X, F, pairs):
@@ -376,19 +386,6 @@ def _merge(X, F, pairs):
     keep = target == np.arange(len(X))
     new = np.cumsum(keep) - 1
     return X[keep], new[target[F]], np.flatnonzero(keep)
-
-
-def _near_polyline(Q, P, tol):
-    """Which of points ``Q`` (q, 3) lie within ``tol`` of the polyline through ``P`` (p, 3),
-    (q,) bool; dense over the q x (p - 1) point-segment pairs (a boundary loop and a
-    path of a few dozen edges, for the points within the path's bounding box)."""
-    near = np.zeros(len(Q), dtype=bool)
-    box = np.flatnonzero(np.all((Q >= P.min(0) - tol) & (Q <= P.max(0) + tol), axis=1))
-    a, d = P[:-1], np.diff(P, axis=0)
-    t = np.einsum("qsk,sk->qs", Q[box, None] - a[None], d) / np.maximum((d * d).sum(1), 1e-300)
-    closest = a[None] + np.clip(t, 0.0, 1.0)[..., None] * d[None]
-    near[box] = (np.linalg.norm(closest - Q[box, None], axis=2) <= tol).any(axis=1)
-    return near
 
 
 def weld_along_paths(X, F, paths, tol):
@@ -434,7 +431,7 @@ def weld_along_paths(X, F, paths, tol):
         P = np.asarray(P, dtype=np.float64)
         chains = []
         for loop in loops:
-            on = _near_polyline(X[loop], P, tol)
+            on = _on_segments(X[loop], P[:-1], P[1:], tol)
             ends = [np.linalg.norm(X[loop] - P[i], axis=1) <= tol for i in (0, -1)]
             for i in np.flatnonzero(on & (ends[0] | ends[1])):
                 # forward along the loop, on the path, to the other end
