@@ -4,7 +4,7 @@ import numpy as np
 
 from conftest import grid_disk
 from qcremesh.adaptive.basemesh import delaunay_disk_mesh, hexagonal_disk_points
-from qcremesh.geometry.locate import locate_points
+from qcremesh.geometry.locate import interpolate_barycentric, locate_points
 from qcremesh.geometry.operators import signed_doublearea
 from qcremesh.geometry.quality import radius_ratio
 from qcremesh.mesh.subdivide import upsample
@@ -195,11 +195,12 @@ def test_faces_left_below_the_floor_get_their_rings_smoothed_together(monkeypatc
     assert radius_ratio(new_X, Fo).min() < 0.3
 
 
-def test_vertices_located_from_known_faces_land_where_the_search_puts_them():
+def test_vertices_located_from_known_faces_land_where_the_search_puts_them(monkeypatch):
     """Located by a walk from the faces of a coarser level (and a neighbour's, for the
-    midpoints; and from a face across the disk for a few), the vertices of a subdivided
-    mesh of a paraboloid land where the search of the whole disk map puts them, and the
-    faces returned contain them."""
+    midpoints; and from a face across the disk for a few), or from the nearest input
+    vertex's where none is known, the vertices of a subdivided mesh of a paraboloid land
+    where the search of the whole disk map puts them, and the faces returned contain
+    them."""
     V, F, uv_in = flat_disk(0.04)
     V[:, 2] = (uv_in**2).sum(1)
     _, Fc, uv_c = flat_disk(0.2)
@@ -211,9 +212,16 @@ def test_vertices_located_from_known_faces_land_where_the_search_puts_them():
     hint = np.r_[faces_c, np.full(len(uv) - len(uv_c), -1)]
     inner = np.flatnonzero(hint >= 0)
     hint[inner[::7]] = hint[inner[::7][::-1]]  # far from their own faces
-    _, X_search, _ = relax_on_surface(uv_in, F, V, uv, Fo, **kwargs)
+    bnd = boundary_loop(Fo)
+    face, bary, _ = locate_points(uv_in, F, np.delete(uv, bnd, axis=0))
+    X_search = interpolate_barycentric(F, face, bary, V)
+    searched = []
+    monkeypatch.setattr(relax, "locate_points", lambda *a, **k: searched.append(len(a[2])) or locate_points(*a, **k))
+    _, X_nearest, _ = relax_on_surface(uv_in, F, V, uv, Fo, **kwargs)
+    assert searched == []  # every walk ended in its face
     _, X_walk, faces = relax_on_surface(uv_in, F, V, uv, Fo, faces=hint, **kwargs)
-    np.testing.assert_allclose(X_walk, X_search, atol=1e-12)
+    np.testing.assert_allclose(np.delete(X_nearest, bnd, axis=0), X_search, atol=1e-12)
+    np.testing.assert_allclose(np.delete(X_walk, bnd, axis=0), X_search, atol=1e-12)
     inside = faces >= 0
     assert inside.sum() == len(uv) - len(boundary_loop(Fo))
     a, b, c = np.moveaxis(uv_in[F[faces[inside]]], 1, 0)

@@ -29,6 +29,7 @@ radius ratio of at least 0.9 (:mod:`qcremesh.remeshing.regularize`).
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from ..adaptive.landmarks import interpolate_on_boundary
 from ..geometry.locate import interpolate_barycentric, locate_points
@@ -96,11 +97,16 @@ def _locate(disk_uv, F, vertex_faces, A, uv, inner, hint):
     A vertex whose input face is known (``hint``, (k,) int, -1 where not) or one of whose
     neighbours' is, is found by a walk in the disk map from that face
     (:func:`~qcremesh.remeshing.onsurface.closest_point_near`): a few faces away where the
-    hint is the face of an endpoint of the edge the vertex subdivides. The walk ends in
-    the face containing the point (the distance to the faces around the current one
-    decreases on a planar triangulation); the others, and those whose walk stopped short
-    of their face, are located by :func:`~qcremesh.geometry.locate.locate_points`.
+    hint is the face of an endpoint of the edge the vertex subdivides. The others start
+    from a face of the input vertex nearest to them in the disk. The walk ends in the
+    face containing the point (the distance to the faces around the current one
+    decreases on a planar triangulation); those whose walk stopped short of their face
+    are located by :func:`~qcremesh.geometry.locate.locate_points` (which located all those
+    with no face known nearby before: the level below the output, say; human_face.obj,
+    both levels, 0.07 -> 0.04 s).
     """
+    if len(inner) == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 3))
     start = hint[inner].copy()
     todo = np.flatnonzero(start < 0)
     if len(todo):
@@ -109,18 +115,18 @@ def _locate(disk_uv, F, vertex_faces, A, uv, inner, hint):
         ring, owner = ring[known], owner[known]
         _, first = np.unique(owner, return_index=True)
         start[todo[owner[first]]] = hint[ring[first]]
-    face = np.full(len(inner), -1, dtype=np.int64)
-    bary = np.zeros((len(inner), 3))
-    walk = np.flatnonzero(start >= 0)
-    if len(walk):
-        P = np.column_stack([uv[inner[walk]], np.zeros(len(walk))])
-        flat = np.column_stack([disk_uv, np.zeros(len(disk_uv))])
-        f, closest, b = closest_point_near(P, start[walk], flat, F, vertex_faces, rounds=WALK_ROUNDS)
-        corners = flat[F[f]]
-        longest = norm(np.roll(corners, -1, axis=1) - corners).max(1)
-        inside = norm(closest - P) <= LOCATE_RTOL * longest
-        face[walk[inside]], bary[walk[inside]] = f[inside], b[inside]
-    rest = np.flatnonzero(face < 0)
+    todo = np.flatnonzero(start < 0)
+    if len(todo):
+        # no face known nearby: start from a face of the nearest input vertex in the disk
+        used = np.flatnonzero(np.diff(vertex_faces.indptr))
+        nearest = used[cKDTree(disk_uv[used]).query(uv[inner[todo]], workers=-1)[1]]
+        start[todo] = vertex_faces.indices[vertex_faces.indptr[nearest]]
+    P = np.column_stack([uv[inner], np.zeros(len(inner))])
+    flat = np.column_stack([disk_uv, np.zeros(len(disk_uv))])
+    face, closest, bary = closest_point_near(P, start, flat, F, vertex_faces, rounds=WALK_ROUNDS)
+    corners = flat[F[face]]
+    longest = norm(np.roll(corners, -1, axis=1) - corners).max(1)
+    rest = np.flatnonzero(norm(closest - P) > LOCATE_RTOL * longest)
     if len(rest):
         face[rest], bary[rest], _ = locate_points(disk_uv, F, uv[inner[rest]], rtol=LOCATE_RTOL)
     return face, bary
