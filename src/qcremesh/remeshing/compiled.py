@@ -1,5 +1,6 @@
-"""Compiled twin of the closest-point search of :mod:`qcremesh.remeshing.onsurface`, used
-when Numba is installed (the optional extra ``fast``).
+"""Compiled twins of the closest-point search of :mod:`qcremesh.remeshing.onsurface` and of
+the smoothing step of :mod:`qcremesh.remeshing.relax`, used when Numba is installed (the
+optional extra ``fast``).
 
 The relaxation, the snapping and the minimum-quality search call
 :func:`~qcremesh.remeshing.onsurface.closest_point_near` hundreds of times on batches of a
@@ -13,6 +14,17 @@ compares them, and the remeshed meshes are the same bytes). Measured: the 50 rel
 sweeps' searches take 0.04 s instead of 0.28 s on human_face.obj and 0.19 s instead of
 0.81 s on hand.ply; the whole remesh at the input's face count 1.31 s instead of 1.73 s
 and 3.2 s instead of 5.0 s (against remesh_botsch's 1.4-1.7 s and 3.5-4.7 s run beside it).
+
+The smoothing step (where a sweep sends each vertex: the mean of its neighbours, less the
+normal component, clamped to a quarter of its mean edge length) takes the vertex normals,
+the neighbour sums and the edge lengths of the whole mesh in NumPy, each a pass over
+every face or edge; compiled, each vertex gathers its own, with the same additions in
+the same order (the faces around a vertex in the order of the incidence matrix, the
+neighbours in the order of the adjacency row, the edge lengths to the higher-numbered
+neighbours before the lower, as the two counts over the sorted edge list add them), so
+again the same bits. Measured: the step of hand.ply's 53k vertices takes 6 ms instead of
+29 ms (human_face.obj's 17k, 1.6 ms instead of 7.4 ms); the 60 sweeps of its remesh at
+its face count, with their closest-point searches, 0.46 s instead of 0.78 s.
 """
 
 from __future__ import annotations
@@ -21,7 +33,7 @@ import numpy as np
 
 from ..geometry.compiled import numba_compile, point_triangle_kernel
 
-__all__ = ["closest_point_near_kernel"]
+__all__ = ["closest_point_near_kernel", "smooth_targets_kernel"]
 
 # Numba is the optional extra "fast"; it is imported, and the functions compiled (or
 # loaded from its cache), at the first search, not with qcremesh (0.3 s).
@@ -76,6 +88,50 @@ def _closest_point_near(P, face, V, F, indptr, indices, rounds):
     return face, closest, bary
 
 
+def _smooth_targets(X, verts, ring_indptr, ring_indices, vf_indptr, vf_indices, Fo, step):
+    """The smoothing step of qcremesh.remeshing.relax._smooth_targets vertex by vertex,
+    with the adjacency rows of ``verts`` and the vertex-face incidence as CSR arrays."""
+    p = verts.shape[0]
+    out = np.empty((p, 3))
+    for r in range(p):
+        v = verts[r]
+        # the area-weighted normal: the cross products of the faces around v, summed
+        n0, n1, n2 = 0.0, 0.0, 0.0
+        for j in range(vf_indptr[v], vf_indptr[v + 1]):
+            f = vf_indices[j]
+            a, b, c = Fo[f, 0], Fo[f, 1], Fo[f, 2]
+            p0, p1, p2 = X[b, 0] - X[a, 0], X[b, 1] - X[a, 1], X[b, 2] - X[a, 2]
+            q0, q1, q2 = X[c, 0] - X[a, 0], X[c, 1] - X[a, 1], X[c, 2] - X[a, 2]
+            n0 += p1 * q2 - p2 * q1
+            n1 += p2 * q0 - p0 * q2
+            n2 += p0 * q1 - p1 * q0
+        length = max(np.sqrt(n0 * n0 + n1 * n1 + n2 * n2), 1e-300)
+        n0, n1, n2 = n0 / length, n1 / length, n2 / length
+        # the neighbours' sum, and the edge lengths to them (higher-numbered ones first)
+        s0, s1, s2 = 0.0, 0.0, 0.0
+        above, below = 0.0, 0.0
+        for j in range(ring_indptr[r], ring_indptr[r + 1]):
+            u = ring_indices[j]
+            s0 += X[u, 0]
+            s1 += X[u, 1]
+            s2 += X[u, 2]
+            e0, e1, e2 = X[v, 0] - X[u, 0], X[v, 1] - X[u, 1], X[v, 2] - X[u, 2]
+            edge = np.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+            if u > v:
+                above += edge
+            else:
+                below += edge
+        deg = ring_indptr[r + 1] - ring_indptr[r]
+        d0, d1, d2 = s0 / deg - X[v, 0], s1 / deg - X[v, 1], s2 / deg - X[v, 2]
+        dn = d0 * n0 + d1 * n1 + d2 * n2
+        d0, d1, d2 = d0 - dn * n0, d1 - dn * n1, d2 - dn * n2
+        reach = (above + below) / deg
+        d0, d1, d2 = d0 * step, d1 * step, d2 * step
+        scale = min(1.0, 0.25 * reach / max(np.sqrt(d0 * d0 + d1 * d1 + d2 * d2), 1e-300))
+        out[r, 0], out[r, 1], out[r, 2] = X[v, 0] + d0 * scale, X[v, 1] + d1 * scale, X[v, 2] + d2 * scale
+    return out
+
+
 def closest_point_near_kernel():
     """The compiled search, ``search(P, face, V, F, vertex_faces, rounds) -> (face,
     closest, bary)`` on one chunk of points, as
@@ -83,14 +139,29 @@ def closest_point_near_kernel():
     imported (not installed, or built for another NumPy), and the NumPy search is to be
     used. The functions are compiled (or loaded from Numba's cache) at the first
     search; Numba compiles under a lock, so threads may make it."""
-    global _state, _point_triangle, _closest_point_near
+    return _search if _compiled() else None
+
+
+def smooth_targets_kernel():
+    """The compiled smoothing step, ``targets(X, verts, ring, Fo, VF, E, step) -> (p,
+    3)``, as :func:`qcremesh.remeshing.relax._smooth_targets` (``ring`` with sorted
+    indices, ``E`` the sorted edge list it takes its edge lengths from); None where Numba
+    cannot be imported."""
+    return _targets if _compiled() else None
+
+
+def _compiled():
+    """Whether the kernels are compiled, compiling them (or loading them from Numba's
+    cache) at the first call."""
+    global _state, _point_triangle, _closest_point_near, _smooth_targets
     if _state is None:
         kernel = point_triangle_kernel()
         _state = kernel is not None
         if _state:
             _point_triangle = kernel
             _closest_point_near = numba_compile(_closest_point_near)
-    return _search if _state else None
+            _smooth_targets = numba_compile(_smooth_targets)
+    return _state
 
 
 def _search(P, face, V, F, vertex_faces, rounds):
@@ -105,4 +176,19 @@ def _search(P, face, V, F, vertex_faces, rounds):
         vertex_faces.indptr,
         vertex_faces.indices,
         int(rounds),
+    )
+
+
+def _targets(X, verts, ring, Fo, VF, E, step):
+    """The compiled smoothing step on the arrays it takes (``E`` is implied: the edges of
+    ``Fo``)."""
+    return _smooth_targets(
+        np.ascontiguousarray(X, dtype=np.float64),
+        np.ascontiguousarray(verts, dtype=np.int64),
+        ring.indptr,
+        ring.indices,
+        VF.indptr,
+        VF.indices,
+        np.ascontiguousarray(Fo, dtype=np.int64),
+        float(step),
     )

@@ -37,6 +37,7 @@ from ..geometry.operators import signed_doublearea, vertex_normals
 from ..geometry.quality import radius_ratio
 from ..geometry.vectors import norm
 from ..mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
+from .compiled import smooth_targets_kernel
 from .min_quality import QUALITY_FLOOR, raise_min_quality
 from .onsurface import BoundaryCurve, closest_point_near, csr_rows
 from .regularize import raise_regular_fraction
@@ -70,10 +71,13 @@ def _edge_lengths(X, E):
     return norm(np.take(X, E[:, 0], axis=0) - np.take(X, E[:, 1], axis=0))
 
 
-def _smooth(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, step):
-    """One sweep of tangential smoothing of the vertices ``verts`` (``ring``: their rows of
-    the adjacency matrix): new surface positions, disk positions and input faces of all
-    vertices (the others unchanged)."""
+def _smooth_targets(X, verts, ring, Fo, VF, E, step):
+    """Where one sweep of tangential smoothing sends the vertices ``verts`` (``ring``:
+    their rows of the adjacency matrix, with sorted indices), before they are put back
+    onto the surface, (p, 3): ``step`` of the way to the mean of their neighbours, less
+    its component along the vertex normal, and at most a quarter of the vertex's mean
+    edge length. With Numba, :mod:`qcremesh.remeshing.compiled` computes the same to the
+    last bit."""
     k = len(X)
     deg = np.diff(ring.indptr)
     normal = vertex_normals(X, Fo, VF)[verts]
@@ -83,8 +87,16 @@ def _smooth(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, st
     reach = (np.bincount(E[:, 0], length, k) + np.bincount(E[:, 1], length, k))[verts] / deg
     d *= step
     d *= np.minimum(1.0, 0.25 * reach / np.maximum(norm(d), 1e-300))[:, None]
+    return X[verts] + d
+
+
+def _smooth(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, step):
+    """One sweep of tangential smoothing of the vertices ``verts`` (``ring``: their rows of
+    the adjacency matrix): new surface positions, disk positions and input faces of all
+    vertices (the others unchanged)."""
+    targets = (smooth_targets_kernel() or _smooth_targets)(X, verts, ring, Fo, VF, E, step)
     new_X, new_uv, new_face = X.copy(), uv.copy(), face.copy()
-    f, cp, b = closest_point_near(X[verts] + d, face[verts], V, F, vertex_faces)
+    f, cp, b = closest_point_near(targets, face[verts], V, F, vertex_faces)
     new_face[verts], new_X[verts] = f, cp
     new_uv[verts] = interpolate_barycentric(F, f, b, disk_uv)
     return new_X, new_uv, new_face
