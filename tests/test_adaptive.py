@@ -229,6 +229,25 @@ def test_jagged_border_has_no_corner_at_output_scale():
     np.testing.assert_array_equal(boundary_corners(V, bnd, scale=1.0), [0, 100, 101, 201])
 
 
+def test_boundary_corners_in_the_metric_of_a_density_do_not_depend_on_its_scale():
+    """The jagged border's corners with a density doubling along it: at a scale in the
+    density's metric, the same corners for the density times 1, 3 and 0.25 at the scale
+    times the same (the two sides of a cut whose pieces each scale their sizing field);
+    the Euclidean scale the density is not measured with finds the zigzag's teeth at the
+    density's short end."""
+    x = np.linspace(0, 10, 101)
+    zig = np.column_stack([x, 0.05 * (np.arange(101) % 2), np.zeros(101)])
+    top = np.column_stack([x[::-1], np.full(101, 3.0), np.zeros(101)])
+    V = np.concatenate([zig, top])
+    bnd = np.arange(len(V))
+    density = 1.0 + V[:, 0] / 10
+    expected = boundary_corners(V, bnd, scale=1.5, density=density)
+    np.testing.assert_array_equal(expected, [0, 100, 101, 201])
+    for factor in (3.0, 0.1):
+        np.testing.assert_array_equal(boundary_corners(V, bnd, scale=1.5 * factor, density=density * factor), expected)
+    assert len(boundary_corners(V, bnd, scale=0.15)) > 4
+
+
 def test_delaunay_disk_mesh_leaves_out_points_at_the_boundary():
     """A point between an edge of the boundary polygon and its arc would become a
     boundary vertex, one just inside an edge a sliver: both are left out."""

@@ -10,6 +10,7 @@ from qcremesh.mesh.topology import (
     boundary_loops,
     connected_components,
     duplicate_faces,
+    edges,
     euler_characteristic,
     nonmanifold_edges,
     nonmanifold_vertices,
@@ -229,6 +230,33 @@ def test_crowded_ends_are_cut_off():
             np.testing.assert_allclose(r.V[:, 2], 0.3 * np.sin(r.V[:, 0]), atol=0.02)
 
 
+def test_crowded_ends_are_cut_off_with_a_sizing_field():
+    """The strip 16 long with edges wanted half as long at one end as at the other: cut
+    where its map crowds as without a sizing field, each piece taking its share of the
+    faces by the field, and the two sides of each cut the same vertices (in the field's
+    metric, which each piece scales its own way). Kept whole, the strip's mean radius
+    ratio was 0.797 / 0.780 at its face count / 1,000 faces, with the grading lost
+    (left-quarter edges 0.87 / 1.49 of the right's); cut, 0.969 / 0.952 and 0.60 / 0.57.
+    As one of two pieces of a mesh, the same."""
+    V, F = strip_disk(16)
+    sizing = 0.5 + 0.5 * V[:, 0] / 16
+    other = grid_disk(12)
+    V2 = np.column_stack([other[0] * [4.0, 1.0], np.zeros(len(other[0]))]) + [0.0, 3.0, 0.0]
+    both = np.r_[V, V2], np.r_[F, other[1] + len(V)]
+    for faces in (len(F), 1000):
+        r = remesh(V, F, faces=faces, sizing=sizing)
+        assert r.stats["crowded_cuts"] == 2 and len(r.stats["piece_faces"]) == 3
+        assert abs(len(r.F) - faces) <= 0.05 * faces
+        q = radius_ratio(r.V, r.F)
+        assert q.min() >= 0.6 and q.mean() >= 0.95
+        check_disk(r.V, r.F)
+        E = edges(r.F)
+        length = np.linalg.norm(r.V[E[:, 0]] - r.V[E[:, 1]], axis=1)
+        x = r.V[E].mean(1)[:, 0]
+        assert 0.5 <= length[x < 4].mean() / length[x > 12].mean() <= 0.65
+        pieces = remesh(*both, faces=faces + 2 * len(other[1]), sizing=np.r_[sizing, np.ones(len(V2))])
+        assert pieces.stats["pieces"] == 2 and pieces.stats["crowded_cuts"] == 2
+        assert radius_ratio(pieces.V, pieces.F).min() >= 0.6
 def test_camel_cut_where_its_map_crowds():
     """camel_b.obj, cut open along zero-width slits into a disk whose map crowds its legs
     and neck to 5e-5 of the mean arc per unit length: cut into six pieces (legs, neck,

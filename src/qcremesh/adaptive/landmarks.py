@@ -98,7 +98,7 @@ def _point_at(P, s, x):
     return np.column_stack([np.interp(x, s, closed[:, k]) for k in range(P.shape[1])])
 
 
-def boundary_corners(V, bnd, angle=45.0, scale=None, pieces=None):
+def boundary_corners(V, bnd, angle=45.0, scale=None, pieces=None, density=None):
     """Boundary vertices where the boundary turns by more than ``angle`` degrees.
 
     The turning angle at b_i is the angle between the chords from the boundary point at
@@ -112,7 +112,10 @@ def boundary_corners(V, bnd, angle=45.0, scale=None, pieces=None):
     least ``scale / 2`` along the boundary from a kept one. With ``pieces``, positions in
     ``bnd`` that split the boundary, the chords stop at them: a vertex is measured within
     its piece alone, so two pieces along the same polyline (the two sides of a cut) get
-    the same corners whatever lies beyond their ends.
+    the same corners whatever lies beyond their ends. With a ``density`` (b,), the arc
+    lengths (``scale`` and the distances between corners) are in the metric of the sizing
+    field 1 / density, as :func:`smoothed_arc_length` measures them: the same corners for
+    any multiple of it.
 
     Returns
     -------
@@ -120,7 +123,7 @@ def boundary_corners(V, bnd, angle=45.0, scale=None, pieces=None):
         Positions in ``bnd`` (not vertex indices), increasing.
     """
     P = np.asarray(V, dtype=np.float64)[bnd]
-    s = _arc_length(P)
+    s = _weighted(_arc_length(P), density)
     perimeter = s[-1]
 
     lo, hi = s[:-1] - perimeter, s[:-1] + perimeter
@@ -246,7 +249,7 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     smooth : bool
     spacing : float, optional
         Distance between landmarks along the boundary (in the metric of ``density``);
-        also the scale of the corners' turning angles.
+        also the scale of the corners' turning angles (in that metric too).
 
     Returns
     -------
@@ -256,9 +259,12 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     """
     theta_b = boundary_angles(uv, bnd)
     P = np.asarray(V, dtype=np.float64)[bnd]
-    s = _arc_length(P)
+    # a spacing is in the metric of the density, and so are the corners' scales then: the
+    # same corners on the two sides of a cut whatever multiple of it each side takes
+    metric = None if spacing is None else density
+    s = _weighted(_arc_length(P), metric)
     scale = s[-1] / max(count, 3) if spacing is None else spacing
-    found = boundary_corners(V, bnd, corner_angle, scale=scale, pieces=corners)
+    found = boundary_corners(V, bnd, corner_angle, scale=scale, pieces=corners, density=metric)
     sigma = smoothed_arc_length(P, scale if smooth else 0.0, density)
     if corners is not None and len(corners):
         corners = np.unique(np.asarray(corners, dtype=np.int64))

@@ -305,19 +305,23 @@ def _levels_with_interior(V, F, bnd, faces, levels, density=None):
     return levels
 
 
-def _planned_levels(V, F, faces, levels):
-    """The levels :func:`remesh` plans for the disk (V, F) at ``faces`` faces: fewer where
-    the base mesh would get under MIN_BASE_FACES faces or more boundary landmarks than
-    interior ones (:func:`_levels_with_interior`), before the CVT's test of its cells."""
+def _planned_levels(V, F, faces, levels, density=None):
+    """The levels :func:`remesh` plans for the disk (V, F) at ``faces`` faces (with a
+    sizing field 1 / ``density``): fewer where the base mesh would get under
+    MIN_BASE_FACES faces or more boundary landmarks than interior ones
+    (:func:`_levels_with_interior`), before the CVT's test of its cells."""
     while levels > 0 and faces / 4**levels < MIN_BASE_FACES:
         levels -= 1
-    return _levels_with_interior(V, F, boundary_loop(F), faces, levels)
+    return _levels_with_interior(V, F, boundary_loop(F), faces, levels, density)
 
 
-def _output_edge_length(V, F, faces):
+def _output_edge_length(V, F, faces, density=None):
     """The edge length of ``faces`` equilateral triangles of the surface's area (the mean
-    output edge length planned)."""
-    return np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * faces))
+    output edge length planned); with a ``density`` (n,), the inverse of a sizing field,
+    of its area counted times density^2 (the edge length where the density is 1, in its
+    metric, as :func:`_plan` measures it)."""
+    area = doublearea(V, F).sum() / 2 if density is None else (vertex_areas(V, F, len(V)) * density**2).sum()
+    return np.sqrt(4 * area / (np.sqrt(3) * faces))
 
 
 def _weld_levels(levels, join, chi, loops):
@@ -435,13 +439,15 @@ def _crowded_cuts(V, F, dm, faces):
     return [p for p in paths_across(V, F, _crowded_ends(V, F, dm, edge)) if p is not None]
 
 
-def _remesh_crowded(V, F, paths, faces, corners, data, stats, options):
+def _remesh_crowded(V, F, paths, faces, corners, sizing, data, stats, options):
     """:func:`remesh` of a disk whose map crowds parts of the boundary: cut along
     ``paths`` (from :func:`_crowded_cuts`) into pieces, each remeshed on its own map with
-    a share of the faces by area, a fixed boundary whose corners are the paths' ends and
-    the input vertices ``corners`` on it, and the boundary edge length planned for the
-    whole (so that both sides of a path get the same vertices), all at the same levels,
-    and welded along the paths
+    a share of the faces by area (counted times sizing^-2 with a ``sizing`` field, (n,)
+    or None), a fixed boundary whose corners are the paths' ends and the input vertices
+    ``corners`` on it, and the boundary edge length planned for the whole (so that both
+    sides of a path get the same vertices; in the metric of the sizing field, which each
+    piece scales to a largest value of 1, so with the edge length scaled as the piece's
+    field), all at the same levels, and welded along the paths
     (:func:`qcremesh.mesh.cut.weld_along_paths`, every level; a coarse level that does
     not weld into a disk is dropped). A path that would cut off a piece of fewer than
     MIN_PIECE_FACES faces, or without an interior vertex, or planned at fewer levels than
@@ -450,6 +456,7 @@ def _remesh_crowded(V, F, paths, faces, corners, data, stats, options):
     level, took 11.9 s instead of 5.3 s, mean q 0.966 instead of 0.987), is not cut.
     Joined as :func:`_join` with ``stats["crowded_cuts"]``; None where the output does
     not weld into a disk."""
+    density = None if sizing is None else sizing.max() / sizing
     while True:
         if not paths:
             return None
@@ -457,8 +464,10 @@ def _remesh_crowded(V, F, paths, faces, corners, data, stats, options):
         F_cut, parent = cut_along_edges(F, cut, len(V))
         count, label = connected_components(F_cut, len(parent))
         V_cut = V[parent]
-        area = np.bincount(label, doublearea(V_cut, F_cut), count)
-        edge = _output_edge_length(V, F, faces)
+        weight = doublearea(V_cut, F_cut) if density is None else doublearea(V_cut, F_cut) * (
+            density[parent][F_cut] ** 2).mean(1)
+        area = np.bincount(label, weight, count)
+        edge = _output_edge_length(V, F, faces, density)
         ends = np.isin(parent, np.concatenate([np.concatenate([p[[0, -1]] for p in paths]), corners]))
         on_boundary = np.zeros(len(parent), dtype=bool)
         on_boundary[boundary_edges(F_cut).ravel()] = True
@@ -468,14 +477,16 @@ def _remesh_crowded(V, F, paths, faces, corners, data, stats, options):
             members.append(parent[used])
             piece_data = {name: np.asarray(v)[parent][used] for name, v in data.items()} if data else data
             share = int(round(faces * area[k] / area.sum()))
-            pieces.append((V_cut[used], local.reshape(-1, 3), share, np.flatnonzero(ends[used]), piece_data))
+            piece_density = None if density is None else density[parent][used]
+            pieces.append((V_cut[used], local.reshape(-1, 3), share, np.flatnonzero(ends[used]), piece_data,
+                           piece_density))
             if share < MIN_PIECE_FACES or on_boundary[used].all():
                 small.append(members[-1])
         if not small:
             # Pieces planned at fewer levels than one below the largest's (which all
             # pieces would then take) are not cut off.
-            planned = [_planned_levels(Vk, Fk, share, options["levels"]) for Vk, Fk, share, _, _ in pieces]
-            most = planned[int(np.argmax([share for _, _, share, _, _ in pieces]))]
+            planned = [_planned_levels(Vk, Fk, share, options["levels"], dk) for Vk, Fk, share, _, _, dk in pieces]
+            most = planned[int(np.argmax([piece[2] for piece in pieces]))]
             small = [vertices for vertices, level in zip(members, planned) if level < most - 1]
         if not small:
             break
@@ -489,11 +500,13 @@ def _remesh_crowded(V, F, paths, faces, corners, data, stats, options):
     results = [None] * len(pieces)
     levels = options["levels"]
     while True:
-        for k, (Vk, Fk, share, corners, piece_data) in enumerate(pieces):
+        for k, (Vk, Fk, share, corners, piece_data, dk) in enumerate(pieces):
             if results[k] is None or results[k].stats["levels"] > levels:
+                # the piece's field scaled to a largest value of 1: its density to a least of 1
+                scale = 1.0 if dk is None else dk.min()
                 results[k] = remesh(
-                    Vk, Fk, share, fixed_boundary=True, corners=corners, boundary_edge_length=edge,
-                    data=piece_data, **dict(options, levels=levels),
+                    Vk, Fk, share, fixed_boundary=True, corners=corners, boundary_edge_length=edge / scale,
+                    sizing=None if dk is None else 1.0 / dk, data=piece_data, **dict(options, levels=levels),
                 )
         used = [r.stats["levels"] for r in results]
         if min(used) == max(used):
@@ -569,7 +582,8 @@ def _join(results, stats):
         out_data[name] = values
     largest = max(range(count), key=lambda k: len(results[k].F))
     main = results[largest]
-    stats = dict(stats, **main.stats, piece_faces=[len(r.F) for r in results])
+    # (the pieces' own pieces, where a piece was cut where its map crowds, give way)
+    stats = {**stats, **main.stats, "piece_faces": [len(r.F) for r in results]}
     # What the warnings read is the worst piece's.
     for name, worst in (("sharpest_corner_degrees", min), ("corner_quality_bound", min),
                         ("param_narrowest_share", max), ("draws", max)):
@@ -654,8 +668,8 @@ def remesh(
     beyond what the landmarks resolve (long protrusions: a camel cut open along slits,
     a strip more than about 10 times as long as wide) is cut where it crowds into
     pieces remeshed on their own maps and welded back (:func:`_remesh_crowded`;
-    ``stats["crowded_cuts"]``, ``stats["piece_faces"]``), without a sizing field (so a
-    cut disk with holes shortened around, face-YH.off's, is not).
+    ``stats["crowded_cuts"]``, ``stats["piece_faces"]``), with the sizing field where
+    there is one.
 
     Where the validation refuses the input for faces listed more than once (which make
     their edges non-manifold), faces turned against their neighbours, or for needles and
@@ -838,8 +852,9 @@ def remesh(
         if len(corner_at) != len(corners) or (corner_at < 0).any():
             raise ValueError("corners must be vertices of the boundary")
     crowded = dm.narrowest_arcs > (CROWDED_SHARE_FIXED if fixed_boundary else CROWDED_SHARE) * len(dm.boundary)
-    if cut_crowded and crowded and sizing is None and not curvature and boundary_edge_length is None and relax > 0 \
-            and method != "uniform":
+    if curvature:
+        sizing = curvature_sizing(V, F, _output_edge_length(V, F, faces))
+    if cut_crowded and crowded and boundary_edge_length is None and relax > 0 and method != "uniform":
         paths = _crowded_cuts(V, F, dm, faces)
         given = np.zeros(0, dtype=np.int64) if corners is None else corners
         if fixed_boundary and paths:
@@ -849,12 +864,10 @@ def remesh(
             twins = bnd[twins]
             ends = np.concatenate([p[[0, -1]] for p in paths])
             given = np.union1d(given, twins[np.isin(twins, ends).any(axis=1)].ravel())
-        result = _remesh_crowded(V, F, paths, faces, given, data, stats, options) if paths else None
+        result = _remesh_crowded(V, F, paths, faces, given, sizing, data, stats, options) if paths else None
         if result is not None:
             result.times["parameterize"] = result.times.get("parameterize", 0.0) + times["parameterize"]
             return result
-    if curvature:
-        sizing = curvature_sizing(V, F, _output_edge_length(V, F, faces))
     density = None if sizing is None else 1.0 / sizing
     if density is not None:
         stats["sizing_min_ratio"] = float(sizing.min() / sizing.max())
