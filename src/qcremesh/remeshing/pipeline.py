@@ -464,8 +464,9 @@ def _remesh_crowded(V, F, paths, faces, corners, sizing, data, stats, options):
         F_cut, parent = cut_along_edges(F, cut, len(V))
         count, label = connected_components(F_cut, len(parent))
         V_cut = V[parent]
-        weight = doublearea(V_cut, F_cut) if density is None else doublearea(V_cut, F_cut) * (
-            density[parent][F_cut] ** 2).mean(1)
+        weight = doublearea(V_cut, F_cut)
+        if density is not None:
+            weight = weight * (density[parent][F_cut] ** 2).mean(1)
         area = np.bincount(label, weight, count)
         edge = _output_edge_length(V, F, faces, density)
         ends = np.isin(parent, np.concatenate([np.concatenate([p[[0, -1]] for p in paths]), corners]))
