@@ -760,7 +760,9 @@ def remesh(
         the boundary between corners gets its length over this (times 2^levels for the
         landmarks), rounded, instead of its share of the planned boundary count, so that
         two meshes remeshed apart that share a border polyline between corners, at the
-        same levels (``stats["levels"]``), get the same vertices along it.
+        same levels (``stats["levels"]``), get the same vertices along it. With a
+        ``sizing`` field, in its metric (lengths times 1 / sizing, the field scaled to a
+        largest value of 1).
     cut_crowded : bool
         Cut a disk whose map crowds its boundary into pieces remeshed apart and welded
         back (:func:`_remesh_crowded`); without, it is remeshed whole (the levels planned
