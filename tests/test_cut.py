@@ -58,6 +58,33 @@ def test_cut_along_edges_opens_a_sphere_into_a_disk_and_weld_closes_it():
     np.testing.assert_array_equal(parent[kept][F_back], F)
 
 
+def test_weld_cut_drops_ears_folded_onto_each_other():
+    """A grid cut along a path, each side given an ear at the same place (a triangle of
+    three consecutive vertices of the path, its middle one on that ear alone): welded,
+    the two ears would be one face twice over an edge of four faces; both go, with the
+    middle vertices, and the grid is whole again."""
+    uv, F = grid_disk(9)
+    V = np.column_stack([uv, np.zeros(len(uv))])
+    a = int(np.flatnonzero(np.isclose(uv[:, 0], 0) & np.isclose(uv[:, 1], 0.5))[0])
+    b = int(np.flatnonzero(np.isclose(uv[:, 0], 1) & np.isclose(uv[:, 1], 0.5))[0])
+    (path,) = paths_across(V, F, [[a, b]])
+    F_cut, parent = cut_along_edges(F, path_edges(path), len(V))
+    X = V[parent]
+    # an ear on each side: a vertex at the midpoint of a path edge, with one face each
+    i, j = path[3], path[4]
+    mid = (V[i] + V[j]) / 2
+    sides = [np.flatnonzero(parent == i), np.flatnonzero(parent == j)]
+    ears = []
+    for side in range(2):
+        p, q = sides[0][side], sides[1][side]
+        ears.append([p, q, len(X) + side] if side == 0 else [q, p, len(X) + side])
+    X = np.r_[X, mid[None], mid[None]]
+    G = np.r_[F_cut, ears]
+    Xw, Gw, kept = weld_cut(X, G, np.stack([V[path[:-1]], V[path[1:]]], axis=1), 1e-9)
+    assert len(Xw) == len(V) and len(Gw) == len(F)
+    assert euler_characteristic(Gw) == 1 and len(boundary_loops(Gw)) == 1 and not len(nonmanifold_edges(Gw))
+
+
 def test_cut_along_edges_splits_a_vertex_into_one_copy_per_fan():
     """A closed loop of edges around a grid's centre cuts the disk in two; a path from
     the boundary to the boundary too, copying its ends."""

@@ -369,7 +369,8 @@ def _on_segments(Q, a, b, tol):
 
 def _merge(X, F, pairs):
     """Merge the vertices of each of ``pairs`` (p, 2) (and so the groups they link), each
-    group into its first vertex at their mean; the vertices kept, the faces renumbered and
+    group into its first vertex at their mean, and drop the pairs of faces the merge
+    folds onto each other; the vertices kept (those of a face), the faces renumbered and
     the index in ``X`` of each vertex kept."""
     linked = unique_integers(pairs)
     local = np.searchsorted(linked, pairs)
@@ -383,9 +384,16 @@ def _merge(X, F, pairs):
     X[first] = total / np.bincount(group, minlength=groups)[:, None]
     target = np.arange(len(X))
     target[linked] = first[group]
-    keep = target == np.arange(len(X))
+    F = target[F]
+    # Two faces over the same vertices: ears of both sides at the same place (a boundary
+    # vertex with one face between two vertices that merge with their twins), folded
+    # onto each other; both go, and the vertex between them if it has no other face.
+    _, face_group, size = np.unique(np.sort(F, axis=1), axis=0, return_inverse=True, return_counts=True)
+    F = F[size[face_group.ravel()] == 1]
+    keep = np.zeros(len(X), dtype=bool)
+    keep[F.ravel()] = True
     new = np.cumsum(keep) - 1
-    return X[keep], new[target[F]], np.flatnonzero(keep)
+    return X[keep], new[F], np.flatnonzero(keep)
 
 
 def weld_along_paths(X, F, paths, tol):
@@ -452,15 +460,4 @@ def weld_along_paths(X, F, paths, tol):
         if np.abs(X[a] - X[b[::-1]]).max() > tol:
             raise ValueError("the two chains of boundary vertices along a path are not at the same points")
         pairs.append(np.column_stack([a, b[::-1]]))
-    X, F, kept = _merge(X, F, np.concatenate(pairs) if pairs else np.zeros((0, 2), dtype=np.int64))
-    # Two faces over the same vertices: ears of both pieces at the same place (a boundary
-    # vertex with one face between two vertices of a chain), folded onto each other.
-    key = np.sort(F, axis=1)
-    _, group, size = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    folded = size[group.ravel()] > 1
-    if folded.any():
-        F = F[~folded]
-        used = np.zeros(len(X), dtype=bool)
-        used[F.ravel()] = True
-        X, F, kept = X[used], (np.cumsum(used) - 1)[F], kept[used]
-    return X, F, kept
+    return _merge(X, F, np.concatenate(pairs) if pairs else np.zeros((0, 2), dtype=np.int64))
