@@ -4,6 +4,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import floyd_warshall
 
 from conftest import DATA, grid_disk, holed_disk, shared, sphere_mesh, torus_mesh
+from qcremesh.adaptive.sizing import curvature_sizing
 from qcremesh.geometry.distance import point_mesh_distance
 from qcremesh.geometry.operators import doublearea
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
@@ -339,6 +340,23 @@ def test_cut_disk_cut_again_where_its_map_crowds():
     assert abs(len(r.F) - len(F) // 2) <= 0.05 * (len(F) // 2)
     quality = mesh_quality(r.V, r.F, reference=(V, F))
     assert quality["q_min"] >= 0.3 and quality["q_mean"] >= 0.985 and quality["hausdorff"] <= 0.004
+
+
+def test_cut_disk_with_a_sizing_field_welds():
+    """Hand1.off at half its face count with a curvature sizing field computed on the
+    surface (as remesh(sizing="curvature") now does for a surface it cuts open): its cut
+    disk, cut again where it crowds, had two seam vertices 1.0x of 1e-9 edge from their
+    twins, and did not weld (the welding tolerance is now 1e-7 edge); remeshed whole,
+    it had an ear on each side of a seam at the same place, which the weld folded onto
+    each other (test_weld_cut_drops_ears_folded_onto_each_other)."""
+    V, F = read_mesh(shared("Hand1.off"))
+    sizing = curvature_sizing(V, F, np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * (len(F) // 2))))
+    r = remesh(V, F, len(F) // 2, sizing=sizing)
+    assert r.stats["crowded_cuts"] >= 1
+    assert euler_characteristic(r.F) == -1 and len(boundary_loops(r.F)) == 1
+    assert not len(nonmanifold_edges(r.F)) and not len(nonmanifold_vertices(r.F))
+    assert abs(len(r.F) - len(F) // 2) <= 0.05 * (len(F) // 2)
+    assert mesh_quality(r.V, r.F, reference=(V, F))["hausdorff"] <= 0.004
 
 
 def test_cut_disk_remeshed_whole_where_its_crowded_pieces_do_not_weld(monkeypatch):

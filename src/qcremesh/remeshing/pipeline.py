@@ -144,6 +144,14 @@ CROWDED_MIN_EDGES = 16
 # Fewest faces of a piece so cut off (else its path is not cut).
 MIN_PIECE_FACES = 16
 
+# Distance, in mean boundary edge lengths, within which the boundary vertices of the two
+# sides of a cut are one vertex when welded. They are the same arc length along the same
+# polyline, but each side gets its point through its own disk map's boundary angles,
+# which where the map crowds (arcs of 1e-6 rad) keep position to about 1e-9 of an edge:
+# Hand1.off at half its face count with a curvature sizing field had two seam vertices
+# 1.0x of 1e-9 edge from their twins, and its weld failed.
+WELD_TOLERANCE = 1e-7
+
 # The CVT of the landmarks samples the disk at the parameterization's vertices, subdivided
 # until there are at least this many per landmark.
 CVT_SAMPLES_PER_LANDMARK = 20
@@ -326,16 +334,16 @@ def _output_edge_length(V, F, faces, density=None):
 
 def _weld_levels(levels, join, chi, loops):
     """Each level (X, F) of a remesh joined by ``join(X, F, tol)`` -> (X, F, kept) (a
-    ValueError where it cannot; ``tol`` 1e-9 of the level's mean boundary edge length) and
-    kept where it then has Euler characteristic ``chi``, ``loops`` boundary loops and only
-    manifold edges. Returns the output level's (X, F, kept) and the hierarchy, which
+    ValueError where it cannot; ``tol`` WELD_TOLERANCE of the level's mean boundary edge
+    length) and kept where it then has Euler characteristic ``chi``, ``loops`` boundary
+    loops and only manifold edges. Returns the output level's (X, F, kept) and the hierarchy, which
     starts above the last coarser level that does not join so, or whose join dropped
     faces (which then no longer split 1-to-4 into the next level's); None where the
     output level does not join."""
 
     def joined(X, Fo):
         border = boundary_edges(Fo)
-        tol = 1e-9 * np.linalg.norm(X[border[:, 0]] - X[border[:, 1]], axis=1).mean()
+        tol = WELD_TOLERANCE * np.linalg.norm(X[border[:, 0]] - X[border[:, 1]], axis=1).mean()
         try:
             Xw, Fw, kept = join(X, Fo, tol)
         except ValueError:
@@ -373,14 +381,16 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     except ValueError as error:
         raise TopologyError(f"cannot cut the surface open into a disk: {error}") from error
     edge = _output_edge_length(V, F, faces)
+    if isinstance(sizing, str):
+        # on the surface, not on the cut disk: the two sides of a cut see the same
+        # surface, and get the same sizing and so the same vertices
+        sizing = curvature_sizing(V, F, edge)
     holes = hole_sizing(V, F, edge)
     if holes.min() < 1:
-        if isinstance(sizing, str):
-            sizing = curvature_sizing(V, F, edge)
         sizing = holes if sizing is None else np.minimum(sizing, holes)
         repairs = dict(repairs, hole_sizing_min_ratio=float(holes.min()))
     cut_data = {k: np.asarray(v)[parent] for k, v in data.items()} if data else data
-    cut_sizing = sizing if sizing is None or isinstance(sizing, str) else np.asarray(sizing)[parent]
+    cut_sizing = None if sizing is None else np.asarray(sizing)[parent]
     # Corners: where the cut ends, branches or meets the boundary.
     degree = np.bincount(cut.ravel(), minlength=len(V))
     on_boundary = np.zeros(len(V), dtype=bool)
