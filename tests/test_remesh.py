@@ -211,7 +211,7 @@ def test_crowded_ends_are_cut_off():
         V, F = strip_disk(length)
         for faces in (len(F), 1000):
             r = remesh(V, F, faces=faces, data={"x": V[:, 0]})
-            assert r.stats["crowded_cuts"] == 2 and len(r.stats["piece_faces"]) == 3
+            assert r.stats["crowded_cuts"] == 2 and len(r.stats["crowded_piece_faces"]) == 3
             # per-vertex data carried through the pieces and the weld
             np.testing.assert_allclose(r.data["x"], r.V[:, 0], atol=1e-9)
             # the welded hierarchy: each level's faces split 1-to-4, its vertices first
@@ -245,7 +245,7 @@ def test_crowded_ends_are_cut_off_with_a_sizing_field():
     both = np.r_[V, V2], np.r_[F, other[1] + len(V)]
     for faces in (len(F), 1000):
         r = remesh(V, F, faces=faces, sizing=sizing)
-        assert r.stats["crowded_cuts"] == 2 and len(r.stats["piece_faces"]) == 3
+        assert r.stats["crowded_cuts"] == 2 and len(r.stats["crowded_piece_faces"]) == 3
         assert abs(len(r.F) - faces) <= 0.05 * faces
         q = radius_ratio(r.V, r.F)
         assert q.min() >= 0.6 and q.mean() >= 0.95
@@ -255,7 +255,8 @@ def test_crowded_ends_are_cut_off_with_a_sizing_field():
         x = r.V[E].mean(1)[:, 0]
         assert 0.5 <= length[x < 4].mean() / length[x > 12].mean() <= 0.65
         pieces = remesh(*both, faces=faces + 2 * len(other[1]), sizing=np.r_[sizing, np.ones(len(V2))])
-        assert pieces.stats["pieces"] == 2 and pieces.stats["crowded_cuts"] == 2
+        assert pieces.stats["pieces"] == 2 and len(pieces.stats["piece_faces"]) == 2
+        assert pieces.stats["crowded_cuts"] == 2 and len(pieces.stats["crowded_piece_faces"]) == 3
         assert radius_ratio(pieces.V, pieces.F).min() >= 0.6
 def test_camel_cut_where_its_map_crowds():
     """camel_b.obj, cut open along zero-width slits into a disk whose map crowds its legs
@@ -265,7 +266,7 @@ def test_camel_cut_where_its_map_crowds():
     -> 0.339, Hausdorff distance 1.70 -> 1.04 % of the diagonal."""
     V, F = read_mesh(shared("camel_b.obj"))
     r = remesh(V, F)
-    assert r.stats["crowded_cuts"] == 5 and len(r.stats["piece_faces"]) == 6
+    assert r.stats["crowded_cuts"] == 5 and len(r.stats["crowded_piece_faces"]) == 6
     assert abs(len(r.F) - len(F)) <= 0.05 * len(F)
     assert len(boundary_loops(r.F)) == 1 and euler_characteristic(r.F) == 1 and not len(nonmanifold_edges(r.F))
     quality = mesh_quality(r.V, r.F, reference=(V, F))

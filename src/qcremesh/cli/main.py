@@ -246,10 +246,10 @@ def _remesh(args, out):
         faces = ", ".join(f"{f:,}" for f in st["piece_faces"])
         print(f"{st['pieces']} pieces, remeshed each ({faces} faces; the numbers below are the largest's)", file=out)
     if "crowded_cuts" in st:
-        faces = ", ".join(f"{f:,}" for f in st["piece_faces"])
+        faces = ", ".join(f"{f:,}" for f in st["crowded_piece_faces"])
         print(
-            f"cut into {len(st['piece_faces'])} pieces where the disk map crowds the boundary, remeshed each on "
-            f"its own map and welded back ({faces} faces; the numbers below are the largest's)",
+            f"cut into {len(st['crowded_piece_faces'])} pieces where the disk map crowds the boundary, remeshed "
+            f"each on its own map and welded back ({faces} faces; the numbers below are the largest's)",
             file=out,
         )
     if "cut_edges" in st:
@@ -276,7 +276,8 @@ def _remesh(args, out):
             file=sys.stderr,
         )
     if "sizing_min_ratio" in st:
-        print(f"sizing ({args.sizing}): edges planned down to {st['sizing_min_ratio']:.2f} of the longest", file=out)
+        given = args.sizing if args.sizing is not None else "around the holes"
+        print(f"sizing ({given}): edges planned down to {st['sizing_min_ratio']:.2f} of the longest", file=out)
     if "teichmuller_k" in st:
         print(
             f"Teichmueller map: k = {st['teichmuller_k']:.4f} after {st['teichmuller_iterations']} iterations"

@@ -523,7 +523,7 @@ def _remesh_crowded(V, F, paths, faces, corners, sizing, data, stats, options):
         if min(used) == max(used):
             break
         levels = min(used)
-    joined = _join(results, dict(stats, crowded_cuts=len(paths)))
+    joined = _join(results, dict(stats, crowded_cuts=len(paths)), "crowded_piece_faces")
     segments = [V[p] for p in paths]
     welded = _weld_levels(joined.levels, lambda X, Fo, tol: weld_along_paths(X, Fo, segments, tol), 1, 1)
     if welded is None:
@@ -554,18 +554,18 @@ def _remesh_pieces(V, F, label, count, faces, sizing, fixed_boundary, data, repa
                 data=piece_data, **options,
             )
         )
-    return _join(results, dict(repairs, pieces=count))
+    return _join(results, dict(repairs, pieces=count), "piece_faces")
 
 
-def _join(results, stats):
+def _join(results, stats, faces_key):
     """The remeshes of several pieces (``results``) as one :class:`RemeshResult`.
 
     The levels are those all pieces have, from the output down (a piece with fewer
     levels than another starts the hierarchy at its own base mesh); the vertices are
     numbered level by level, every piece's coarser ones first. ``uv``, ``disk_levels``,
     ``mu`` and the stats are those of the largest piece (the one with the most output
-    faces), joined with ``stats`` and ``stats["piece_faces"]`` (each piece's output
-    faces), but the sharpest corner, its quality bound, the crowded share of the
+    faces), joined with ``stats`` and ``stats[faces_key]`` (each piece's output faces),
+    but the sharpest corner, its quality bound, the crowded share of the
     boundary and the draws, the worst piece's; the times are summed."""
     count = len(results)
     depth = min(len(r.levels) for r in results)
@@ -593,8 +593,7 @@ def _join(results, stats):
         out_data[name] = values
     largest = max(range(count), key=lambda k: len(results[k].F))
     main = results[largest]
-    # (the pieces' own pieces, where a piece was cut where its map crowds, give way)
-    stats = {**stats, **main.stats, "piece_faces": [len(r.F) for r in results]}
+    stats = {**stats, **main.stats, faces_key: [len(r.F) for r in results]}
     # What the warnings read is the worst piece's.
     for name, worst in (("sharpest_corner_degrees", min), ("corner_quality_bound", min),
                         ("param_narrowest_share", max), ("draws", max)):
@@ -679,7 +678,7 @@ def remesh(
     beyond what the landmarks resolve (long protrusions: a camel cut open along slits,
     a strip more than about 10 times as long as wide) is cut where it crowds into
     pieces remeshed on their own maps and welded back (:func:`_remesh_crowded`;
-    ``stats["crowded_cuts"]``, ``stats["piece_faces"]``), with the sizing field where
+    ``stats["crowded_cuts"]``, ``stats["crowded_piece_faces"]``), with the sizing field where
     there is one.
 
     Where the validation refuses the input for faces listed more than once (which make
