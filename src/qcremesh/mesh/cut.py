@@ -322,7 +322,10 @@ def weld_cut(X, F, segments, tol):
     """Close a disk mesh made by remeshing a surface cut open by :func:`cut_to_disk`: its
     boundary vertices on the cut (within ``tol`` of one of its edges) that lie within
     ``tol`` of each other (a vertex on one side of the cut and its twin on the other;
-    the copies of a branch point of the cut) are merged, at their mean.
+    the copies of a branch point of the cut) are merged, at their mean. Where both sides
+    have an ear at the same place (a boundary vertex with one face, between two vertices
+    that merge), the weld folds the two faces onto each other: both are dropped, as
+    :func:`weld_along_paths` does.
 
     Parameters
     ----------
