@@ -284,11 +284,7 @@ def _plan(V, F, bnd, faces, levels, density=None):
     With a ``density`` (n,), the inverse of a sizing field, areas are counted times
     density^2 and boundary lengths times density."""
     base_faces = max(faces / 4**levels, 4.0)
-    if density is None:
-        area = doublearea(V, F).sum() / 2
-    else:
-        area = (vertex_areas(V, F, len(V)) * density**2).sum()
-    h = np.sqrt(4 * area / (np.sqrt(3) * base_faces))
+    h = _output_edge_length(V, F, base_faces, density)
     lengths = np.linalg.norm(V[np.roll(bnd, -1)] - V[bnd], axis=1)
     perimeter = lengths.sum()
     sized = perimeter if density is None else (lengths * (density[bnd] + density[np.roll(bnd, -1)]) / 2).sum()
@@ -336,10 +332,10 @@ def _weld_levels(levels, join, chi, loops):
     """Each level (X, F) of a remesh joined by ``join(X, F, tol)`` -> (X, F, kept) (a
     ValueError where it cannot; ``tol`` WELD_TOLERANCE of the level's mean boundary edge
     length) and kept where it then has Euler characteristic ``chi``, ``loops`` boundary
-    loops and only manifold edges. Returns the output level's (X, F, kept) and the hierarchy, which
-    starts above the last coarser level that does not join so, or whose join dropped
-    faces (which then no longer split 1-to-4 into the next level's); None where the
-    output level does not join."""
+    loops and only manifold edges. Returns the output level's (X, F, kept) and the
+    hierarchy, which starts above the last coarser level that does not join so, or whose
+    join dropped faces (which then no longer split 1-to-4 into the next level's); None
+    where the output level does not join."""
 
     def joined(X, Fo):
         border = boundary_edges(Fo)
@@ -474,9 +470,10 @@ def _remesh_crowded(V, F, paths, faces, corners, sizing, data, stats, options):
         F_cut, parent = cut_along_edges(F, cut, len(V))
         count, label = connected_components(F_cut, len(parent))
         V_cut = V[parent]
+        cut_density = None if density is None else density[parent]
         weight = doublearea(V_cut, F_cut)
-        if density is not None:
-            weight = weight * (density[parent][F_cut] ** 2).mean(1)
+        if cut_density is not None:
+            weight = weight * (cut_density[F_cut] ** 2).mean(1)
         area = np.bincount(label, weight, count)
         edge = _output_edge_length(V, F, faces, density)
         ends = np.isin(parent, np.concatenate([np.concatenate([p[[0, -1]] for p in paths]), corners]))
@@ -488,9 +485,8 @@ def _remesh_crowded(V, F, paths, faces, corners, sizing, data, stats, options):
             members.append(parent[used])
             piece_data = {name: np.asarray(v)[parent][used] for name, v in data.items()} if data else data
             share = int(round(faces * area[k] / area.sum()))
-            piece_density = None if density is None else density[parent][used]
             pieces.append((V_cut[used], local.reshape(-1, 3), share, np.flatnonzero(ends[used]), piece_data,
-                           piece_density))
+                           None if cut_density is None else cut_density[used]))
             if share < MIN_PIECE_FACES or on_boundary[used].all():
                 small.append(members[-1])
         if not small:
