@@ -5,7 +5,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import DATA, grid_disk, holed_disk, shared, sphere_mesh, split_vertex, star_disk, strip_disk, torus_mesh, tube_disk
+from conftest import DATA, box_mesh, grid_disk, holed_disk, shared, sphere_mesh, split_vertex, star_disk, strip_disk, torus_mesh, tube_disk
 from qcremesh.cli.main import main
 from qcremesh.mesh.io import read_mesh, write_mesh
 from qcremesh.mesh.subdivide import upsample
@@ -290,6 +290,34 @@ def test_remesh_cli_sizing_from_a_vertex_array(tmp_path, capsys):
         "qcremesh: error: --sizing does not go with --method uniform (a regular mesh of the disk)"
     )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r.ply", "sized.vtk"]
+
+
+def test_remesh_cli_keeps_creases(tmp_path, capsys):
+    path = tmp_path / "box.ply"
+    write_mesh(path, *box_mesh(k=9))
+    out = tmp_path / "r.obj"
+    assert main(["remesh", str(path), "-o", str(out), "--creases", "60"]) == 0
+    text = capsys.readouterr().out
+    assert (
+        "creases: 64 edges turn by more than 60 degrees; cut along 8 paths into 5 pieces, remeshed each and "
+        "welded back (" in text
+    )
+    assert "Hausdorff 0.000 %" in text
+    assert main(["remesh", str(path), "-o", str(out), "--creases", "100"]) == 0
+    assert "creases: no edge turns by more than 100 degrees" in capsys.readouterr().out
+    # 60 faces: each side's piece would get 12, fewer than a piece may have
+    assert main(["remesh", str(path), "-o", str(out), "--creases", "60", "--faces", "60"]) == 0
+    assert capsys.readouterr().err.strip() == (
+        "qcremesh: warning: the creases were not kept (the cuts along them leave pieces too small, or the pieces "
+        "did not weld back): the surface was remeshed without them"
+    )
+    for args, message in [
+        (["--creases", "0"], "--creases must be between 0 and 180 degrees"),
+        (["--creases", "60", "--relax", "0"], "--creases needs the relaxation (--relax > 0) and a method other than uniform"),
+    ]:
+        assert main(["remesh", str(path), "-o", str(tmp_path / "x.obj"), *args]) == 1
+        assert capsys.readouterr().err.strip() == f"qcremesh: error: {message}"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["box.ply", "r.obj"]
 
 
 def test_remesh_cli_takes_closed_surfaces_holes_and_handles(tmp_path, capsys):

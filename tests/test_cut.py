@@ -9,7 +9,16 @@ from qcremesh.geometry.distance import point_mesh_distance
 from qcremesh.geometry.operators import doublearea
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
 from qcremesh.mesh.io import read_mesh
-from qcremesh.mesh.cut import cut_along_edges, cut_to_disk, paths_across, shortest_edge_path, weld_along_paths, weld_cut
+from qcremesh.mesh.cut import (
+    cut_along_edges,
+    cut_to_disk,
+    edge_paths,
+    paths_across,
+    paths_to_boundary,
+    shortest_edge_path,
+    weld_along_paths,
+    weld_cut,
+)
 from qcremesh.mesh.topology import (
     boundary_edges,
     boundary_loop,
@@ -270,6 +279,46 @@ def test_paths_across_run_through_interior_vertices_and_apart():
     assert not np.isin(paths[0], paths[1]).any()
     # bottom to top must cross the first two paths
     assert paths[2] is None
+
+
+def test_edge_paths_end_at_branch_points_stops_and_ends():
+    # a tail 0-1 into a triangle 1-2-3 (1 a branch point), a loop 4-5-6 of its own, given
+    # in any order and direction, with an edge twice
+    E = [[2, 1], [0, 1], [3, 2], [1, 3], [6, 4], [4, 5], [5, 6], [1, 0]]
+    paths = edge_paths(E, 7)
+    assert [p.tolist() for p in paths] == [[0, 1], [1, 2, 3, 1], [4, 5, 6, 4]]
+    # a stop splits a path where it has degree 2
+    assert [p.tolist() for p in edge_paths([[0, 1], [1, 2], [2, 3]], 4, stops=[2])] == [[0, 1, 2], [2, 3]]
+    assert [p.tolist() for p in edge_paths([[0, 1], [1, 2], [2, 3]], 4, stops=np.array([0, 0, 1, 0], bool))] == [
+        [0, 1, 2],
+        [2, 3],
+    ]
+    assert edge_paths(np.zeros((0, 2), dtype=np.int64), 4) == []
+
+
+def test_paths_to_boundary_join_each_free_part_once():
+    uv, F = grid_disk(11)
+    V = np.column_stack([uv, np.zeros(len(uv))])
+    at = {tuple(np.round(p * 10).astype(int)): i for i, p in enumerate(uv)}
+    # one part touching the boundary (left edge inwards), two free ones
+    touching = [[at[0, 5], at[1, 5]]]
+    near = [[at[4, 2], at[5, 2]]]  # 2 rows from the bottom
+    far = [[at[5, 5], at[6, 5]]]
+    paths = paths_to_boundary(V, F, touching + near + far)
+    assert len(paths) == 2
+    boundary = np.unique(boundary_edges(F))
+    starts = [set(np.ravel(near)), set(np.ravel(far))]
+    for path, start in zip(paths, starts):
+        assert path[0] in start and np.isin(path[1:-1], boundary, invert=True).all()
+    # the near part goes to the boundary, 2 edges down; the far one to the near part,
+    # joined before it (0.4 to the boundary and to the touching part)
+    assert path_length(V, paths[0]) == pytest.approx(0.2)
+    assert path_length(V, paths[1]) == pytest.approx(0.3)
+    assert paths_to_boundary(V, F, touching) == []
+
+
+def path_length(V, path):
+    return float(np.linalg.norm(np.diff(V[path], axis=0), axis=1).sum())
 
 
 def test_weld_along_paths_joins_pieces_but_not_a_slit():

@@ -123,6 +123,13 @@ def _parser():
         action="store_true",
         help="remesh a disk whose map crowds its boundary in one piece, instead of cutting the crowded parts off",
     )
+    r.add_argument(
+        "--creases",
+        type=float,
+        metavar="DEG",
+        help="keep the creases: the edges across which the surface turns by more than DEG degrees (CAD "
+        "tessellations) become output edges",
+    )
     r.add_argument("--report", metavar="DIR", help="write figures and report.html into DIR")
 
     m = sub.add_parser("quality", help="triangle quality of a mesh, and its distance to a reference")
@@ -192,6 +199,10 @@ def _remesh(args, out):
         raise CommandError("--levels must be >= 0")
     if args.relax < 0:
         raise CommandError("--relax must be >= 0")
+    if args.creases is not None and not 0 < args.creases < 180:
+        raise CommandError("--creases must be between 0 and 180 degrees")
+    if args.creases is not None and (args.method == "uniform" or args.relax == 0):
+        raise CommandError("--creases needs the relaxation (--relax > 0) and a method other than uniform")
     if args.sizing is not None and args.method == "uniform":
         raise CommandError("--sizing does not go with --method uniform (a regular mesh of the disk)")
     t0 = time.perf_counter()
@@ -213,7 +224,7 @@ def _remesh(args, out):
     try:
         result = remesh(
             V, F, args.faces, levels=args.levels, method=args.method, seed=args.seed, relax=args.relax,
-            sizing=sizing, cut_crowded=not args.whole, data=data, progress=update,
+            sizing=sizing, cut_crowded=not args.whole, creases=args.creases, data=data, progress=update,
         )
     except MeshError as exc:
         raise CommandError(f"{args.input}: {exc}") from exc
@@ -251,6 +262,23 @@ def _remesh(args, out):
             f"cut into {len(st['crowded_piece_faces'])} pieces where the disk map crowds the boundary, remeshed "
             f"each on its own map and welded back ({faces} faces; the numbers below are the largest's)",
             file=out,
+        )
+    if "crease_edges" in st:
+        if "crease_cuts" in st:
+            faces = ", ".join(f"{f:,}" for f in st["crease_piece_faces"])
+            print(
+                f"creases: {st['crease_edges']} edges turn by more than {args.creases:g} degrees; cut along "
+                f"{st['crease_cuts']} paths into {len(st['crease_piece_faces'])} pieces, remeshed each and welded "
+                f"back ({faces} faces; the numbers below are the largest's)",
+                file=out,
+            )
+        elif st["crease_edges"] == 0:
+            print(f"creases: no edge turns by more than {args.creases:g} degrees", file=out)
+    if st.get("creases_kept") is False:
+        print(
+            "qcremesh: warning: the creases were not kept (the cuts along them leave pieces too small, or the "
+            "pieces did not weld back): the surface was remeshed without them",
+            file=sys.stderr,
         )
     if "cut_edges" in st:
         print(f"not a disk: cut open along {st['cut_edges']} edges, remeshed and welded shut", file=out)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components, dijkstra, minimum_spanning_tree
+from scipy.sparse.csgraph import connected_components, depth_first_order, dijkstra, minimum_spanning_tree
 from scipy.spatial import cKDTree
 
 from .topology import (
@@ -20,7 +20,16 @@ from .topology import (
     unique_integers,
 )
 
-__all__ = ["cut_along_edges", "cut_to_disk", "paths_across", "shortest_edge_path", "weld_along_paths", "weld_cut"]
+__all__ = [
+    "cut_along_edges",
+    "cut_to_disk",
+    "edge_paths",
+    "paths_across",
+    "paths_to_boundary",
+    "shortest_edge_path",
+    "weld_along_paths",
+    "weld_cut",
+]
 
 
 def shortest_edge_path(V, F, source, target):
@@ -82,6 +91,107 @@ def paths_across(V, F, ends):
         path = _walk_back(previous, target)
         blocked[path] = True
         paths.append(path)
+    return paths
+
+
+def edge_paths(E, n, stops=None):
+    """A set of edges split into the paths that run between its ends and branch points.
+
+    Each path runs from a vertex of the set's degree other than 2, or one of ``stops``,
+    through vertices of degree 2 to the next such; a closed loop without one is a path
+    from its least vertex round to it again (first and last the same).
+
+    Parameters
+    ----------
+    E : (k, 2) int
+        Edges, either way round, each any number of times.
+    n : int
+        Number of vertices.
+    stops : (s,) int or (n,) bool, optional
+        Vertices where paths end even at degree 2 (the boundary).
+
+    Returns
+    -------
+    list of (p_i,) int64
+        Each path's vertices, in the order of the least vertex first seen.
+    """
+    keys = unique_integers(_edge_keys(np.asarray(E, dtype=np.int64).reshape(-1, 2), n))
+    E = _keys_to_edges(keys, n)
+    if not len(E):
+        return []
+    degree = np.bincount(E.ravel(), minlength=n)
+    stop = degree != 2
+    if stops is not None:
+        stop[np.asarray(stops)] = True
+    # Every edge's end at a stop gets a node of its own, so the paths come apart there;
+    # the nodes are then renumbered 0.. over those used.
+    ends = E.ravel().copy()
+    at_stop = stop[ends]
+    ends[at_stop] = n + np.flatnonzero(at_stop)
+    nodes, local = np.unique(ends, return_inverse=True)
+    local = local.reshape(-1, 2)
+    vertex = np.where(nodes < n, nodes, E.ravel()[np.maximum(nodes - n, 0)])
+    G = sp.csr_matrix((np.ones(len(local)), (local[:, 0], local[:, 1])), shape=(len(nodes),) * 2)
+    count, label = connected_components(G, directed=False)
+    # a path starts at one of its end nodes, a loop at its least vertex
+    is_end = nodes >= n
+    start = np.full(count, -1, dtype=np.int64)
+    order = np.lexsort((vertex, ~is_end, label))
+    first = np.r_[True, label[order][1:] != label[order][:-1]]
+    start[label[order][first]] = order[first]
+    paths = []
+    for root in start[np.argsort(vertex[start], kind="stable")]:
+        walk = vertex[depth_first_order(G, int(root), directed=False, return_predecessors=False)]
+        paths.append(walk if is_end[root] else np.r_[walk, walk[0]])
+    return paths
+
+
+def paths_to_boundary(V, F, E):
+    """Shortest edge paths that join each connected part of a set of interior edges that
+    has no boundary vertex to the boundary or to a part already joined (Dijkstra's
+    algorithm from all the part's vertices, edges weighted by their length; the parts
+    in order of their least vertex). Cut along the edges and these paths, a disk falls
+    into pieces that are disks each (the cut and the boundary then form one connected
+    graph).
+
+    Parameters
+    ----------
+    V : (n, 3) float
+    F : (m, 3) int
+        A disk.
+    E : (k, 2) int
+        Edges of ``F``.
+
+    Returns
+    -------
+    list of (p_i,) int64
+        Each path's vertices, from the part to where it joins.
+    """
+    V = np.asarray(V, dtype=np.float64)
+    n = len(V)
+    E = np.asarray(E, dtype=np.int64).reshape(-1, 2)
+    target = np.zeros(n, dtype=bool)
+    target[boundary_edges(F).ravel()] = True
+    if not len(E):
+        return []
+    G = sp.csr_matrix((np.ones(len(E)), (E[:, 0], E[:, 1])), shape=(n, n))
+    _, part = connected_components(G, directed=False)
+    used = np.unique(E)
+    touches = np.zeros(n, dtype=bool)
+    touches[part[used[target[used]]]] = True
+    target[used[touches[part[used]]]] = True
+    H = half_edges(F)
+    M = sp.csr_matrix((np.linalg.norm(V[H[:, 0]] - V[H[:, 1]], axis=1), (H[:, 0], H[:, 1])), shape=(n, n))
+    paths = []
+    for k in np.unique(part[used][~touches[part[used]]]):
+        members = used[part[used] == k]
+        dist, previous, _ = dijkstra(M, directed=False, indices=members, return_predecessors=True, min_only=True)
+        reached = np.flatnonzero(target & np.isfinite(dist))
+        if not len(reached):
+            raise ValueError("no path along the edges joins a part of the edges to the boundary")
+        paths.append(_walk_back(previous, reached[np.argmin(dist[reached])]))
+        target[members] = True
+        target[paths[-1]] = True
     return paths
 
 

@@ -25,6 +25,10 @@ Beyond the paper, any manifold surface: one that is not a disk is cut open into 
 along its edges (:mod:`qcremesh.mesh.cut`), remeshed with the two sides of every cut
 alike and welded shut; several pieces are remeshed each.
 
+Beyond the paper too, ``creases``: the edges where the surface turns by more than a
+given angle (the edges of a CAD part's faces) kept as output edges, the disk cut along
+them into pieces remeshed each and welded back.
+
 Beyond the paper too, a ``sizing`` field (per input vertex, or ``"curvature"``, see
 :mod:`qcremesh.adaptive.sizing`) grades the edge lengths: the landmarks spread the surface
 area weighted by sizing^-2, and the relaxation keeps their grading.
@@ -59,11 +63,20 @@ from ..adaptive.landmarks import (
 from ..adaptive.sizing import check_sizing, curvature_sizing, hole_sizing
 from ..beltrami.coefficient import coherent_mu
 from ..beltrami.teichmuller import teichmuller_map
+from ..geometry.creases import sharp_edges
 from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import doublearea, vertex_areas
 from ..geometry.quality import corner_radius_ratio_bound, radius_ratio, triangle_angles
 from ..geometry.repair import repair_degenerate_faces
-from ..mesh.cut import cut_along_edges, cut_to_disk, paths_across, weld_along_paths, weld_cut
+from ..mesh.cut import (
+    cut_along_edges,
+    cut_to_disk,
+    edge_paths,
+    paths_across,
+    paths_to_boundary,
+    weld_along_paths,
+    weld_cut,
+)
 from ..mesh.subdivide import upsample
 from ..mesh.topology import (
     boundary_edges,
@@ -80,7 +93,7 @@ from ..mesh.topology import (
     orient_faces,
     unreferenced_vertices,
 )
-from ..mesh.validate import DegenerateFaceError, NonManifoldError, OrientationError, TopologyError
+from ..mesh.validate import DegenerateFaceError, MeshError, NonManifoldError, OrientationError, TopologyError
 from ..param.crowding import crowded_arcs
 from ..param.disk import disk_conformal_map
 from .min_quality import QUALITY_FLOOR
@@ -143,6 +156,9 @@ CROWDED_RATIO = 0.1
 CROWDED_MIN_EDGES = 16
 # Fewest faces of a piece so cut off (else its path is not cut).
 MIN_PIECE_FACES = 16
+# Rounds of cuts across the pieces that a disk cut along its creases falls into, where
+# their own maps crowd.
+CREASE_ROUNDS = 3
 
 # Distance, in mean boundary edge lengths, within which the boundary vertices of the two
 # sides of a cut are one vertex when welded. They are the same arc length along the same
@@ -404,12 +420,12 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
         return _weld_levels(levels, lambda X, Fo, tol: weld_cut(X, Fo, V[cut], tol), chi, loops)
 
     welded = weld(result.levels)
-    if welded is None and "crowded_cuts" in result.stats:
-        # The cut disk cut again where its map crowds, whose seams did not weld: once more
-        # without that.
+    if welded is None and ("crowded_cuts" in result.stats or "crease_cuts" in result.stats):
+        # The cut disk cut again where its map crowds or along its creases, whose seams
+        # did not weld: once more without that.
         result = remesh(
             V[parent], F_cut, faces, sizing=cut_sizing, fixed_boundary=True, corners=cut_corners, data=cut_data,
-            **dict(options, cut_crowded=False),
+            **dict(options, cut_crowded=False, creases=None),
         )
         welded = weld(result.levels)
     if welded is None:
@@ -445,23 +461,63 @@ def _crowded_cuts(V, F, dm, faces):
     return [p for p in paths_across(V, F, _crowded_ends(V, F, dm, edge)) if p is not None]
 
 
-def _remesh_crowded(V, F, paths, faces, corners, sizing, data, stats, options):
-    """:func:`remesh` of a disk whose map crowds parts of the boundary: cut along
-    ``paths`` (from :func:`_crowded_cuts`) into pieces, each remeshed on its own map with
-    a share of the faces by area (counted times sizing^-2 with a ``sizing`` field, (n,)
-    or None), a fixed boundary whose corners are the paths' ends and the input vertices
+def _crease_cuts(V, F, sharp, paths, faces):
+    """Paths to cut a disk along so that its ``sharp`` edges ((k, 2), from
+    :func:`qcremesh.geometry.creases.sharp_edges`) become piece borders: those edges, the
+    paths that join their parts with no boundary vertex to the boundary
+    (:func:`qcremesh.mesh.cut.paths_to_boundary`), the crowded ``paths`` (from
+    :func:`_crowded_cuts`) and, up to CREASE_ROUNDS times, the crowded cuts of each
+    piece whose own disk map crowds more than CROWDED_SHARE_FIXED of its boundary (the
+    ring between two creases round a plateau is a strip), split into paths that meet
+    only at their ends (:func:`qcremesh.mesh.cut.edge_paths`, which end at the boundary
+    and at branch points; a closed one starts and ends at the same vertex, which
+    :func:`qcremesh.mesh.cut.weld_along_paths` takes). ``faces`` is the output's face
+    count, shared among the pieces by area."""
+
+    def edges_of(paths):
+        return [np.column_stack([p[:-1], p[1:]]) for p in paths]
+
+    cut = np.concatenate([sharp] + edges_of(paths_to_boundary(V, F, sharp) + paths))
+    for _ in range(CREASE_ROUNDS):
+        F_cut, parent = cut_along_edges(F, cut, len(V))
+        count, label = connected_components(F_cut, len(parent))
+        area = np.bincount(label, doublearea(V[parent], F_cut), count)
+        more = []
+        for k in range(count):
+            used, local = np.unique(F_cut[label == k], return_inverse=True)
+            Vk, Fk = V[parent[used]], local.reshape(-1, 3)
+            try:
+                dm = disk_conformal_map(Vk, Fk)
+            except MeshError:
+                continue
+            if dm.narrowest_arcs > CROWDED_SHARE_FIXED * len(dm.boundary):
+                share = max(faces * area[k] / area.sum(), 1.0)
+                more += [parent[used][p] for p in _crowded_cuts(Vk, Fk, dm, share)]
+        if not more:
+            break
+        cut = np.concatenate([cut] + edges_of(more))
+    return edge_paths(cut, len(V), stops=boundary_edges(F).ravel())
+
+
+def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, options, name="crowded", level_rule=True):
+    """:func:`remesh` of a disk cut along ``paths`` (from :func:`_crowded_cuts`, where
+    its map crowds parts of the boundary, or :func:`_crease_cuts`) into pieces, each
+    remeshed on its own map with a share of the faces by area (counted times sizing^-2
+    with a ``sizing`` field, (n,) or None), a fixed boundary whose corners are the paths' ends and the input vertices
     ``corners`` on it, and the boundary edge length planned for the whole (so that both
     sides of a path get the same vertices; in the metric of the sizing field, which each
     piece scales to a largest value of 1, so with the edge length scaled as the piece's
     field), all at the same levels, and welded along the paths
     (:func:`qcremesh.mesh.cut.weld_along_paths`, every level; a coarse level that does
     not weld into a disk is dropped). A path that would cut off a piece of fewer than
-    MIN_PIECE_FACES faces, or without an interior vertex, or planned at fewer levels than
-    one below the largest piece (:func:`_planned_levels`; every piece would take them:
-    Hand1.off's cut disk at half its face count, two pieces of a few hundred faces at no
-    level, took 11.9 s instead of 5.3 s, mean q 0.966 instead of 0.987), is not cut.
-    Joined as :func:`_join` with ``stats["crowded_cuts"]``; None where the output does
-    not weld into a disk."""
+    MIN_PIECE_FACES faces, or without an interior vertex, or, with ``level_rule``,
+    planned at fewer levels than one below the largest piece (:func:`_planned_levels`;
+    every piece would take them: Hand1.off's cut disk at half its face count, two pieces
+    of a few hundred faces at no level, took 11.9 s instead of 5.3 s, mean q 0.966
+    instead of 0.987), is not cut (the creases' cuts go without the level rule: a mesa
+    whose top is a sixth of its area lost its rim's crease to it, Hausdorff 1.3 %).
+    Joined as :func:`_join` with ``stats[name + "_cuts"]`` (the paths cut) and
+    ``stats[name + "_piece_faces"]``; None where the output does not weld into a disk."""
     density = None if sizing is None else sizing.max() / sizing
     while True:
         if not paths:
@@ -489,7 +545,7 @@ def _remesh_crowded(V, F, paths, faces, corners, sizing, data, stats, options):
                            None if cut_density is None else cut_density[used]))
             if share < MIN_PIECE_FACES or on_boundary[used].all():
                 small.append(members[-1])
-        if not small:
+        if not small and level_rule:
             # Pieces planned at fewer levels than one below the largest's (which all
             # pieces would then take) are not cut off.
             planned = [_planned_levels(Vk, Fk, share, options["levels"], dk) for Vk, Fk, share, _, _, dk in pieces]
@@ -519,7 +575,7 @@ def _remesh_crowded(V, F, paths, faces, corners, sizing, data, stats, options):
         if min(used) == max(used):
             break
         levels = min(used)
-    joined = _join(results, dict(stats, crowded_cuts=len(paths)), "crowded_piece_faces")
+    joined = _join(results, dict(stats, **{f"{name}_cuts": len(paths)}), f"{name}_piece_faces")
     segments = [V[p] for p in paths]
     welded = _weld_levels(joined.levels, lambda X, Fo, tol: weld_along_paths(X, Fo, segments, tol), 1, 1)
     if welded is None:
@@ -658,6 +714,7 @@ def remesh(
     corners=None,
     boundary_edge_length=None,
     cut_crowded=True,
+    creases=None,
     data=None,
     progress=None,
 ):
@@ -673,7 +730,7 @@ def remesh(
     remeshed each (:func:`_remesh_pieces`). A disk whose map crowds much of its boundary
     beyond what the landmarks resolve (long protrusions: a camel cut open along slits,
     a strip more than about 10 times as long as wide) is cut where it crowds into
-    pieces remeshed on their own maps and welded back (:func:`_remesh_crowded`;
+    pieces remeshed on their own maps and welded back (:func:`_remesh_along_paths`;
     ``stats["crowded_cuts"]``, ``stats["crowded_piece_faces"]``), with the sizing field where
     there is one.
 
@@ -770,8 +827,19 @@ def remesh(
         largest value of 1).
     cut_crowded : bool
         Cut a disk whose map crowds its boundary into pieces remeshed apart and welded
-        back (:func:`_remesh_crowded`); without, it is remeshed whole (the levels planned
+        back (:func:`_remesh_along_paths`); without, it is remeshed whole (the levels planned
         for the whole, the crowded parts less regular).
+    creases : float, optional
+        Keep the creases: the interior edges across which the surface turns by more than
+        this many degrees (:func:`qcremesh.geometry.creases.sharp_edges`; the edges of a
+        CAD tessellation's faces) become output edges. The disk is cut along them (and
+        along shortest edge paths from the parts of them with no boundary vertex to the
+        boundary, which are seams only) into pieces, remeshed as the crowded ones are
+        and welded back (``stats["crease_edges"]``, ``stats["crease_cuts"]``,
+        ``stats["crease_piece_faces"]``; ``stats["creases_kept"]`` False where every cut
+        would leave a piece too small or the pieces did not weld back, and the disk was
+        remeshed whole). Needs ``relax`` and a method
+        other than ``"uniform"``. None (the default): not looked for.
     data : dict of str to (n,) or (n, d) array, optional
         Per-vertex attributes (normals, colours, scalars, UVs) to carry to the output.
     progress : callable, optional
@@ -801,6 +869,10 @@ def remesh(
         sizing = check_sizing(sizing, len(V))
     if (curvature or sizing is not None) and method == "uniform":
         raise ValueError("the 'uniform' method takes no sizing")
+    if creases is not None and not 0.0 < creases < 180.0:
+        raise ValueError(f"the crease angle must be between 0 and 180 degrees, not {creases}")
+    if creases is not None and (relax == 0 or method == "uniform"):
+        raise ValueError("keeping creases needs the relaxation (relax > 0) and a method other than 'uniform'")
     if fixed_boundary and (relax == 0 or method == "uniform"):
         raise ValueError("a fixed boundary needs the relaxation (relax > 0) and a method other than 'uniform'")
     if boundary_edge_length is not None and not (fixed_boundary and boundary_edge_length > 0):
@@ -827,7 +899,7 @@ def remesh(
     options = dict(
         levels=levels, method=method, seed=seed, corner_angle=corner_angle, cvt_iterations=cvt_iterations,
         relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries, cut_crowded=cut_crowded,
-        progress=progress,
+        creases=creases, progress=progress,
     )
     stage("parameterize")
     try:
@@ -862,20 +934,34 @@ def remesh(
     crowded = dm.narrowest_arcs > (CROWDED_SHARE_FIXED if fixed_boundary else CROWDED_SHARE) * len(dm.boundary)
     if curvature:
         sizing = curvature_sizing(V, F, _output_edge_length(V, F, faces))
-    if cut_crowded and crowded and boundary_edge_length is None and relax > 0 and method != "uniform":
-        paths = _crowded_cuts(V, F, dm, faces)
+    attempts = []
+    if boundary_edge_length is None and relax > 0 and method != "uniform":
+        # (the pieces themselves, with a boundary edge length, are not cut again)
+        crowded_paths = _crowded_cuts(V, F, dm, faces) if cut_crowded and crowded else []
+        if creases is not None:
+            sharp = sharp_edges(V, F, creases)
+            stats["crease_edges"] = len(sharp)
+            if len(sharp):
+                attempts.append(("crease", _crease_cuts(V, F, sharp, crowded_paths, faces)))
+        if crowded_paths:
+            attempts.append(("crowded", crowded_paths))
+    for name, paths in attempts:
         given = np.zeros(0, dtype=np.int64) if corners is None else corners
-        if fixed_boundary and paths:
+        if fixed_boundary:
             # the boundary vertices at the same points as the paths' ends (their twins
             # on the other side of a cut that the caller welds) are corners too
             twins = cKDTree(V[bnd]).query_pairs(1e-9 * np.linalg.norm(np.ptp(V, axis=0)), output_type="ndarray")
             twins = bnd[twins]
             ends = np.concatenate([p[[0, -1]] for p in paths])
             given = np.union1d(given, twins[np.isin(twins, ends).any(axis=1)].ravel())
-        result = _remesh_crowded(V, F, paths, faces, given, sizing, data, stats, options) if paths else None
+        result = _remesh_along_paths(
+            V, F, paths, faces, given, sizing, data, stats, options, name, level_rule=name == "crowded"
+        )
         if result is not None:
             result.times["parameterize"] = result.times.get("parameterize", 0.0) + times["parameterize"]
             return result
+        if name == "crease":
+            stats["creases_kept"] = False
     density = None if sizing is None else 1.0 / sizing
     if density is not None:
         stats["sizing_min_ratio"] = float(sizing.min() / sizing.max())

@@ -1,0 +1,114 @@
+import numpy as np
+import pytest
+
+from conftest import box_mesh
+from qcremesh.geometry.creases import dihedral_angles, sharp_edges
+from qcremesh.geometry.distance import hausdorff_distance
+from qcremesh.geometry.quality import radius_ratio
+from qcremesh.mesh.topology import boundary_loops, euler_characteristic, nonmanifold_edges
+from qcremesh.remeshing.pipeline import remesh
+
+
+def test_dihedral_angles_of_a_pair_folded_along_their_edge():
+    # two triangles on the edge (0, 1) along x, the second turned down by 0, 45 and 90
+    # degrees about it, and up by 45
+    F = np.array([[0, 1, 2], [1, 0, 3]])
+    for far, angle in [([0.5, -1, 0], 0.0), ([0.5, -1, -1], 45.0), ([0.5, 0, -1], 90.0), ([0.5, -1, 1], 45.0)]:
+        V = np.array([[0, 0, 0], [1, 0, 0], [0.5, 1, 0], far], dtype=np.float64)
+        E, turn = dihedral_angles(V, F)
+        assert sorted(E[0]) == [0, 1] and turn == pytest.approx([angle])
+
+
+def test_sharp_edges_are_the_box_edges():
+    V, F = box_mesh(k=7)
+    E = sharp_edges(V, F, 60.0)
+    # the 4 bottom edges and the 4 vertical ones, 6 grid edges each
+    assert len(E) == 48
+    on_two_faces_of_the_cube = ((np.isclose(V[E], 0) | np.isclose(V[E], 1)).sum(2) >= 2).all()
+    assert on_two_faces_of_the_cube
+    assert len(sharp_edges(V, F, 100.0)) == 0
+    with pytest.raises(ValueError, match="^the crease angle must be between 0 and 180 degrees, not 180.0$"):
+        sharp_edges(V, F, 180.0)
+
+
+def test_remesh_keeps_the_creases_of_an_open_box_mesh():
+    # CAD-like: grid lines crowded towards the box's edges (slivers along them)
+    t = np.cumsum(np.r_[0.0, 1.4 ** np.abs(np.arange(-6, 7))])
+    V, F = box_mesh(spacing=t / t[-1])
+    diag = np.sqrt(3.0)
+    for faces in (len(F), len(F) // 2):
+        plain = remesh(V, F, faces)
+        r = remesh(V, F, faces, creases=60.0)
+        assert r.stats["crease_edges"] == 8 * (len(t) - 1) and len(r.stats["crease_piece_faces"]) == 5
+        assert abs(len(r.F) - faces) <= 0.05 * faces
+        assert euler_characteristic(r.F) == 1 and len(boundary_loops(r.F)) == 1 and not len(nonmanifold_edges(r.F))
+        # every output vertex on a side; the box's 8 corners kept
+        assert (np.isclose(r.V, 0, atol=1e-9) | np.isclose(r.V, 1, atol=1e-9)).any(1).all()
+        for corner in [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [0, 0, 1], [1, 0, 1], [0, 1, 1], [1, 1, 1]]:
+            assert np.linalg.norm(r.V - corner, axis=1).min() < 1e-9
+        # the creases are output edges: no output face cuts across one
+        assert hausdorff_distance(V, F, r.V, r.F)[0] < 1e-6 * diag
+        assert hausdorff_distance(V, F, plain.V, plain.F)[0] > 0.01 * diag
+        q = radius_ratio(r.V, r.F)
+        assert q.min() >= 0.3 and q.mean() >= 0.94
+
+
+def test_remesh_keeps_the_creases_of_a_closed_cube():
+    V, F = box_mesh(k=9, top=True)
+    r = remesh(V, F, creases=60.0)
+    # (those of the cube's 12 * 8 crease edges that the cut into a disk follows are on its
+    # border already)
+    assert 0 < r.stats["crease_edges"] <= 12 * 8 and len(r.stats["crease_piece_faces"]) == 6
+    assert euler_characteristic(r.F) == 2 and not boundary_loops(r.F) and not len(nonmanifold_edges(r.F))
+    assert hausdorff_distance(V, F, r.V, r.F)[0] < 1e-6
+    assert radius_ratio(r.V, r.F).min() >= 0.3
+
+
+def polar_disk(height):
+    """The unit disk on 20 rings of 48 vertices round a centre, raised to
+    ``height(r)``."""
+    r_, k = np.linspace(0.0, 1.0, 21)[1:], 48
+    R, A = np.meshgrid(r_, np.linspace(0.0, 2 * np.pi, k, endpoint=False), indexing="ij")
+    V = np.vstack([[0.0, 0.0, height(0.0)], np.column_stack([(R * np.cos(A)).ravel(), (R * np.sin(A)).ravel(),
+                                                            height(R).ravel()])])
+    ring = np.arange(k)
+    F = [np.column_stack([np.zeros(k, dtype=np.int64), 1 + ring, 1 + (ring + 1) % k])]
+    for i in range(len(r_) - 1):
+        a0, a1 = 1 + i * k + ring, 1 + i * k + (ring + 1) % k
+        F += [np.column_stack([a0, a0 + k, a1 + k]), np.column_stack([a0, a1 + k, a1])]
+    return V, np.concatenate(F)
+
+
+def test_creases_round_a_plateau_cut_the_ring_between_them_across():
+    # the middle raised by 0.25 over a ring 0.1 wide, with a crease at each side of the
+    # ring: neither touches the boundary, and the ring cut open is a strip 35 times as
+    # long as wide, whose own map crowds
+    V, F = polar_disk(lambda r: np.clip((0.6 - r) * 2.5, 0.0, 0.25))
+    r = remesh(V, F, creases=60.0)
+    plain = remesh(V, F)
+    assert r.stats["crease_edges"] == 2 * 48 and len(r.stats["crease_piece_faces"]) > 3
+    assert euler_characteristic(r.F) == 1 and len(boundary_loops(r.F)) == 1
+    assert hausdorff_distance(V, F, r.V, r.F)[0] < 0.2 * hausdorff_distance(V, F, plain.V, plain.F)[0]
+    assert radius_ratio(r.V, r.F).min() >= 0.3
+
+
+def test_a_crease_round_a_small_top_is_kept():
+    # a mesa: the top (r < 0.5) a sixth of the area, one closed crease round it, joined
+    # to the boundary by one seam; the top's piece is planned at fewer levels than the
+    # rest, which does not drop a crease's cut as it does a crowded one's
+    V, F = polar_disk(lambda r: np.where(r <= 0.5 + 1e-9, 0.25, 0.25 - 2 * (r - 0.5)))
+    r = remesh(V, F, creases=60.0)
+    plain = remesh(V, F)
+    assert r.stats["crease_cuts"] == 2 and len(r.stats["crease_piece_faces"]) == 2
+    assert hausdorff_distance(V, F, r.V, r.F)[0] < 0.2 * hausdorff_distance(V, F, plain.V, plain.F)[0]
+    q = radius_ratio(r.V, r.F)
+    assert q.min() >= 0.3 and q.mean() >= 0.95
+
+
+def test_creases_need_the_relaxation_and_an_angle_in_range():
+    V, F = box_mesh()
+    with pytest.raises(ValueError, match=r"^keeping creases needs the relaxation \(relax > 0\) and a method other than 'uniform'$"):
+        remesh(V, F, creases=60.0, relax=0)
+    with pytest.raises(ValueError, match=r"^the crease angle must be between 0 and 180 degrees, not -1.0$"):
+        remesh(V, F, creases=-1.0)
+    assert "crease_edges" not in remesh(V, F).stats
