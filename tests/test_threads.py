@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from conftest import grid_disk
-from qcremesh.geometry.threads import MIN_CHUNK_ROWS, map_row_chunks
+from qcremesh.geometry.threads import MIN_CHUNK_ROWS, map_row_chunks, query_workers
 from qcremesh.mesh.topology import vertex_face_incidence
 from qcremesh.remeshing.onsurface import closest_point_near
 
@@ -44,3 +44,8 @@ def test_closest_point_search_is_the_same_on_threads(workers):
     one = closest_point_near(P, start, V, F, vf, workers=1)
     many = closest_point_near(P, start, V, F, vf, workers=workers)
     assert all(np.array_equal(a, b) for a, b in zip(one, many))
+
+
+def test_small_queries_start_no_threads():
+    assert query_workers(0) == query_workers(MIN_CHUNK_ROWS - 1) == 1
+    assert query_workers(MIN_CHUNK_ROWS) == query_workers(10**6) == -1

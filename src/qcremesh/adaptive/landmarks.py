@@ -27,7 +27,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..geometry.compiled import guess_is_nearest_kernel
-from ..geometry.threads import map_row_chunks
+from ..geometry.threads import map_row_chunks, query_workers
 
 __all__ = [
     "boundary_angles",
@@ -317,11 +317,11 @@ def _nearest(tree, queries, guess=None):
     of the samples searched; with the compiled test, 5-8 %).
     """
     if guess is None or len(tree.data) < 2:
-        return tree.query(queries, workers=-1)[1]
+        return tree.query(queries, workers=query_workers(len(queries)))[1]
     data = tree.data
     kernel = guess_is_nearest_kernel()
     k = min(NEIGHBOURS, len(data) - 1) if kernel is not None else 1
-    spacing, neighbours = tree.query(data, k=k + 1, workers=-1)
+    spacing, neighbours = tree.query(data, k=k + 1, workers=query_workers(len(data)))
     # (a margin under one half against the rounding of the two distances)
     safe = (0.499 * spacing[:, 1]) ** 2
     out = np.array(guess, dtype=np.int64)
@@ -338,7 +338,7 @@ def _nearest(tree, queries, guess=None):
             d2 += (queries[:, c] - np.take(np.ascontiguousarray(data[:, c]), guess)) ** 2
         certified = d2 < np.take(safe, guess)
     rest = np.flatnonzero(~certified)
-    out[rest] = tree.query(queries[rest], workers=-1)[1]
+    out[rest] = tree.query(queries[rest], workers=query_workers(len(rest)))[1]
     return out
 
 
@@ -387,7 +387,7 @@ def voronoi_owner(
     # elsewhere (near the cells' borders, a few samples) the candidates are searched.
     differ = np.flatnonzero(owner != nearest_in_disk)
     if len(differ):
-        _, near = tree.query(samples[differ], k=k, workers=-1)
+        _, near = tree.query(samples[differ], k=k, workers=query_workers(int(np.count_nonzero(differ))))
         owner[differ] = map_row_chunks(_nearest_in_space, [positions[differ], near], [generator_positions])[0]
     return owner
 
@@ -520,7 +520,9 @@ def cvt_landmarks(
         samples, mass, weight, positions = samples[order], mass[order], weight[order], positions[order]
 
         def owners(points):
-            at = positions_in_input_order[sample_tree.query(points, workers=-1)[1]] if len(points) else positions[:0]
+            at = positions[:0]
+            if len(points):
+                at = positions_in_input_order[sample_tree.query(points, workers=query_workers(len(points)))[1]]
             owner = voronoi_owner(
                 samples, np.concatenate([fixed, points]), positions, np.concatenate([fixed_positions, at]),
                 guess=guess(points),

@@ -11,6 +11,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..geometry.operators import vertex_normals
+from ..geometry.threads import query_workers
 from ..mesh.topology import boundary_loops
 
 __all__ = ["check_sizing", "curvature_sizing", "hole_sizing"]
@@ -88,7 +89,7 @@ def curvature_sizing(V, F, edge_length, *, min_ratio=0.6, quantile=0.8, gradatio
     normal = vertex_normals(V, F)
     tree = cKDTree(V)
     k = min(neighbours + 1, n)
-    dist, near = tree.query(V, k=k, distance_upper_bound=h, workers=-1)
+    dist, near = tree.query(V, k=k, distance_upper_bound=h, workers=query_workers(len(V)))
     found = np.isfinite(dist[:, 1:])
     near = np.where(found, near[:, 1:], np.arange(n)[:, None])
     dist = np.where(found, dist[:, 1:], 1.0)
@@ -100,7 +101,7 @@ def curvature_sizing(V, F, edge_length, *, min_ratio=0.6, quantile=0.8, gradatio
     e_q = np.quantile(e[bends], quantile)
     s = np.clip(np.sqrt(e_q / np.maximum(e, 1e-300)), min_ratio, 1.0)
     if gradation > 0 and min_ratio < 1:
-        dist, near = tree.query(V, k=k, distance_upper_bound=2 * h, workers=-1)
+        dist, near = tree.query(V, k=k, distance_upper_bound=2 * h, workers=query_workers(len(V)))
         found = np.isfinite(dist)
         near = np.where(found, near, np.arange(n)[:, None])
         bound = np.where(found, gradation * dist / h, 0.0)

@@ -16,6 +16,7 @@ from scipy.spatial import cKDTree
 from ..mesh.topology import half_edges
 from .compiled import pair_distances_kernel
 from .operators import doublearea
+from .threads import query_workers
 from .vectors import norm
 
 __all__ = [
@@ -212,7 +213,9 @@ def _nearest(P, centers, radii, owner, pair_dist, k=8):
             todo = todo[np.argsort(best[todo], kind="stable")]
             left = []
             for chunk in np.array_split(todo, -(-len(todo) * kc // _CHUNK)):
-                dc, jc = tree.query(P[chunk], kc, distance_upper_bound=best[chunk].max() + R, workers=-1)
+                dc, jc = tree.query(
+                    P[chunk], kc, distance_upper_bound=best[chunk].max() + R, workers=query_workers(len(chunk))
+                )
                 dc, jc = dc.reshape(len(chunk), kc), jc.reshape(len(chunk), kc)
                 lower = np.where(dc >= seen[chunk, None], dc - rad[jc], np.inf)
                 j = own[jc]

@@ -35,6 +35,7 @@ from ..adaptive.landmarks import interpolate_on_boundary
 from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import signed_doublearea, vertex_normals
 from ..geometry.quality import radius_ratio
+from ..geometry.threads import query_workers
 from ..geometry.vectors import norm
 from ..mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
 from .compiled import smooth_targets_kernel
@@ -131,7 +132,7 @@ def _locate(disk_uv, F, vertex_faces, A, uv, inner, hint):
     if len(todo):
         # no face known nearby: start from a face of the nearest input vertex in the disk
         used = np.flatnonzero(np.diff(vertex_faces.indptr))
-        nearest = used[cKDTree(disk_uv[used]).query(uv[inner[todo]], workers=-1)[1]]
+        nearest = used[cKDTree(disk_uv[used]).query(uv[inner[todo]], workers=query_workers(len(todo)))[1]]
         start[todo] = vertex_faces.indices[vertex_faces.indptr[nearest]]
     P = np.column_stack([uv[inner], np.zeros(len(inner))])
     flat = np.column_stack([disk_uv, np.zeros(len(disk_uv))])

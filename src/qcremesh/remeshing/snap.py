@@ -32,6 +32,7 @@ from ..geometry.distance import point_triangle_distance
 from ..geometry.locate import interpolate_barycentric
 from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
+from ..geometry.threads import query_workers
 from ..geometry.vectors import norm
 from .min_quality import QUALITY_FLOOR
 from .onsurface import closest_point_near, csr_rows, independent_first, nearest_per_owner
@@ -110,7 +111,7 @@ def snap_to_far_points(
     # Input vertices within reach of an output vertex are within reach of the output.
     # Only the others are measured, in every pass (one near a vertex that moves away is
     # not measured again: its other neighbours stay).
-    candidates = np.flatnonzero(cKDTree(X).query(V, workers=-1)[0] > reach)
+    candidates = np.flatnonzero(cKDTree(X).query(V, workers=query_workers(len(V)))[0] > reach)
     dist = np.zeros(len(V))
     failed = np.zeros(0, dtype=np.int64)  # (far point, vertex) pairs that did not move, as far * k + vertex
     for _ in range(passes):
