@@ -428,6 +428,36 @@ def _sizing_section(results):
     return out + [table, ""]
 
 
+def _crease_section(results):
+    """Every remesher and qcremesh keeping the creases, on the synthetic CAD-like shapes."""
+    out = [
+        "## Creases\n",
+        "Synthetic CAD-like surfaces with creases (benchmarks/shapes.py: `open_box`, a box open "
+        "at the top whose grid lines crowd towards its edges; `cube`, closed, 8 x 8 squares a "
+        "side; `plateau`, a disk raised inside a ring 0.1 wide, a crease at each side of the "
+        "ring; `mesa`, a flat top on a cone, one closed crease), at their face count and at "
+        "half of it: every remesher with its default settings (pymeshlab keeps the edges "
+        "turning by more than 30 degrees by default), and qcremesh with `creases=60`.\n",
+    ]
+    header = ["shape", "faces wanted", "tool", "faces", "time s", "q mean", "q min", "q>0.9",
+              "Hausdorff %"]
+    table = _variant_table(
+        results["creases"],
+        header,
+        lambda r: [r["name"], f"{r['faces']:,}", TOOL_NAMES[r["tool"]] + (
+            f" creases={r['variant']['creases']:g}" if "variant" in r else "")],
+        lambda r, q: [
+            f"{q['faces']:,}",
+            _num(r["time"]["median"]),
+            f"{q['q_mean']:.3f}",
+            f"{q['q_min']:.3f}",
+            f"{q['q_frac_above_0_9']:.3f}",
+            _pct(q["hausdorff"]),
+        ],
+    )
+    return out + [table, ""]
+
+
 # Scaling ------------------------------------------------------------------------------
 
 
@@ -643,6 +673,8 @@ def markdown(results):
         out += _seeds_section(results)
     if results.get("sizing"):
         out += _sizing_section(results)
+    if results.get("creases"):
+        out += _crease_section(results)
     if results.get("scaling"):
         out += _scaling_section(results)
     targets = _param_targets(results) + (_remesh_targets(results) if results.get("remesh") else [])

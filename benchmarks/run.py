@@ -2,7 +2,7 @@
 
     python benchmarks/run.py [--data DIR] [--out DIR] [--quick] [--parts ...] [--tools ...]
 
-Six parts; each tool runs in a process of its own (worker.py), kept for its jobs:
+Seven parts; each tool runs in a process of its own (worker.py), kept for its jobs:
 
 * param: disk parameterizations of every disk mesh (qcremesh's Algorithm 1, Tutte, libigl
   harmonic with arc-length boundary, libigl LSCM), with |mu| of the map disk -> surface,
@@ -19,6 +19,9 @@ Six parts; each tool runs in a process of its own (worker.py), kept for its jobs
 * sizing: qcremesh with ``sizing="curvature"`` at both face counts on the meshes of the
   Hausdorff targets and human_brain (the quick meshes in quick mode), beside its default
   runs of the remesh part.
+* creases: every remesher and qcremesh with ``creases=60`` on synthetic CAD-like surfaces
+  with creases (shapes.py: an open box, a closed cube, a plateau, a mesa; the open box only
+  in quick mode) at both face counts.
 * scaling: qcremesh's parameterization and remesh on one mesh subdivided 0, 1 and 2 times.
 
 Writes results.md, results.json and PNG plots to --out; prints the tables.
@@ -44,6 +47,7 @@ import numpy as np
 
 import qcremesh
 import report
+import shapes
 from qcremesh.mesh import topology
 from worker import RESULT_MARK
 
@@ -60,6 +64,8 @@ ABLATION_RELAX = [0, 40]
 SEED_MESHES = ["human_face.obj"]
 SEEDS = [0, 1, 2, 3]
 SIZING_MESHES = ["foot.off", "hand.ply", "head_neck_cut.obj", "human_face.obj", "human_brain.ply"]
+CREASE_ANGLE = 60.0
+QUICK_SHAPES = ["open_box"]
 
 
 def parse_args(argv):
@@ -79,8 +85,8 @@ def parse_args(argv):
     )
     p.add_argument(
         "--parts",
-        default="param,remesh,ablation,seeds,sizing,scaling",
-        help="comma-separated subset of param,remesh,ablation,seeds,sizing,scaling",
+        default="param,remesh,ablation,seeds,sizing,creases,scaling",
+        help="comma-separated subset of param,remesh,ablation,seeds,sizing,creases,scaling",
     )
     p.add_argument("--tools", help="comma-separated subset of the tools (default: all)")
     p.add_argument(
@@ -357,6 +363,27 @@ def sizing_rows(meshes, args):
     return [row for half in (False, True) for row in variant_rows(meshes, names, half, [variant], args)]
 
 
+def crease_rows(args):
+    """Every remesher, and qcremesh with ``creases=CREASE_ANGLE``, on the synthetic
+    surfaces of shapes.py (written as OBJ files to a temporary folder for the workers) at
+    their face count and at half of it."""
+    rows = []
+    names = QUICK_SHAPES if args.quick else list(shapes.SHAPES)
+    variant = {"method": "teichmuller", "relax": 40, "creases": CREASE_ANGLE}
+    with tempfile.TemporaryDirectory() as folder:
+        for name in names:
+            V, F = shapes.SHAPES[name]()
+            path = Path(folder) / f"{name}.obj"
+            qcremesh.write_mesh(path, V, F)
+            m = {"mesh": name, "path": str(path), "faces": len(F)}
+            for half in (False, True):
+                for tool in selected(REMESH_TOOLS, args):
+                    rows.append(run_job(remesh_job(m, tool, half), args))
+                if selected(["qcremesh"], args):
+                    rows.append(run_job(remesh_job(m, "qcremesh", half, variant), args))
+    return rows
+
+
 def scaling_rows(path, args):
     """qcremesh on the mesh subdivided 0, 1, 2 times; the remesh at the subdivided face
     count, not measured (the remesh part does that). A tool skipped at level 0 is not
@@ -404,6 +431,8 @@ def main(argv=None):
         results["seeds"] = seed_rows(meshes, args)
     if "sizing" in args.parts:
         results["sizing"] = sizing_rows(meshes, args)
+    if "creases" in args.parts:
+        results["creases"] = crease_rows(args)
     if "scaling" in args.parts and (args.data / scaling_name).is_file():
         results["scaling"] = scaling_rows(args.data / scaling_name, args)
         results["scaling_fit"] = report.fit_exponents(results["scaling"])

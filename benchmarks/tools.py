@@ -98,20 +98,23 @@ def _qcremesh_remesh(V, F, faces):
     return result.V, result.F, dict(getattr(result, "times", {}))
 
 
-def qcremesh_variant(method, relax, seed=0, sizing=None):
+def qcremesh_variant(method, relax, seed=0, sizing=None, creases=None):
     """qcremesh.remesh with one of the paper's ablations (``method``), ``relax``
-    relaxation sweeps (0: the paper's pipeline alone), the CVT ``seed`` and a ``sizing``
-    (None: uniform)."""
+    relaxation sweeps (0: the paper's pipeline alone), the CVT ``seed``, a ``sizing``
+    (None: uniform) and ``creases`` (an angle in degrees, or None)."""
 
     def run(V, F, faces):
-        result = qcremesh.remesh(V, F, faces=faces, seed=seed, method=method, relax=relax, sizing=sizing)
+        result = qcremesh.remesh(
+            V, F, faces=faces, seed=seed, method=method, relax=relax, sizing=sizing, creases=creases
+        )
         return result.V, result.F, dict(result.times, draws=result.stats.get("draws", 1))
 
     return Remesher(
         run,
         lambda V, F, faces: faces,
         False,
-        f"remesh(V, F, faces=N, method={method!r}, relax={relax}, seed={seed}, sizing={sizing!r})",
+        f"remesh(V, F, faces=N, method={method!r}, relax={relax}, seed={seed}, sizing={sizing!r}, "
+        f"creases={creases!r})",
     )
 
 

@@ -1,3 +1,4 @@
+import importlib.util
 from pathlib import Path
 
 import numpy as np
@@ -7,6 +8,12 @@ from scipy.spatial import Delaunay
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "data"
 SHARED = ROOT.parent / "shared" / "data"
+
+# The benchmark's synthetic CAD-like surfaces (open_box, cube, plateau, mesa, box,
+# polar_disk), shared with the tests.
+_spec = importlib.util.spec_from_file_location("shapes", ROOT / "benchmarks" / "shapes.py")
+shapes = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(shapes)
 
 # Disk-topology meshes of ../shared/data (see its README).
 SHARED_DISKS = [
@@ -208,27 +215,3 @@ def holed_disk(k=30, holes=((0.3, 0.3, 0.12), (0.7, 0.6, 0.15)), seed=0):
     V = np.column_stack([uv, 0.3 * np.sin(np.pi * uv[:, 0]) * np.sin(np.pi * uv[:, 1])])
     return V, F
 
-
-def grid_faces(n, m):
-    """Faces of an n x m grid of vertices numbered row by row (i * m + j), two each cell."""
-    i, j = np.meshgrid(np.arange(n - 1), np.arange(m - 1), indexing="ij")
-    a = (i * m + j).ravel()
-    return np.concatenate([np.column_stack([a, a + m, a + m + 1]), np.column_stack([a, a + m + 1, a + 1])])
-
-
-def box_mesh(k=9, top=False, spacing=None):
-    """The unit cube's surface without its top (a disk) or with it (closed), each side a
-    k x k grid (``spacing``: the grid lines' positions in [0, 1], the same on every side
-    so that the sides meet vertex to vertex), faces turned outwards."""
-    t = np.linspace(0.0, 1.0, k) if spacing is None else np.asarray(spacing, dtype=np.float64)
-    a, b = (x.ravel() for x in np.meshgrid(t, t, indexing="ij"))
-    zero, one = np.zeros_like(a), np.ones_like(a)
-    sides = [(a, b, zero, True), (a, zero, b, False), (a, one, b, True), (zero, a, b, True), (one, a, b, False)]
-    if top:
-        sides.append((a, b, one, False))
-    G = grid_faces(len(t), len(t))
-    V = np.concatenate([np.column_stack(side[:3]) for side in sides])
-    F = np.concatenate([(G[:, ::-1] if side[3] else G) + s * len(t) ** 2 for s, side in enumerate(sides)])
-    # the sides' shared grid points made one vertex
-    _, first, inverse = np.unique(np.round(V, 12), axis=0, return_index=True, return_inverse=True)
-    return V[first], inverse.ravel()[F]

@@ -5,7 +5,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import DATA, box_mesh, grid_disk, holed_disk, shared, sphere_mesh, split_vertex, star_disk, strip_disk, torus_mesh, tube_disk
+from conftest import DATA, grid_disk, holed_disk, shapes, shared, sphere_mesh, split_vertex, star_disk, strip_disk, torus_mesh, tube_disk
 from qcremesh.cli.main import main
 from qcremesh.mesh.io import read_mesh, write_mesh
 from qcremesh.mesh.subdivide import upsample
@@ -294,7 +294,7 @@ def test_remesh_cli_sizing_from_a_vertex_array(tmp_path, capsys):
 
 def test_remesh_cli_keeps_creases(tmp_path, capsys):
     path = tmp_path / "box.ply"
-    write_mesh(path, *box_mesh(k=9))
+    write_mesh(path, *shapes.box(np.linspace(0.0, 1.0, 9), top=False))
     out = tmp_path / "r.obj"
     assert main(["remesh", str(path), "-o", str(out), "--creases", "60"]) == 0
     text = capsys.readouterr().out

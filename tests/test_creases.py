@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from conftest import box_mesh
+from conftest import shapes
 from qcremesh.geometry.creases import dihedral_angles, sharp_edges
 from qcremesh.geometry.distance import hausdorff_distance
 from qcremesh.geometry.quality import radius_ratio
@@ -20,7 +20,7 @@ def test_dihedral_angles_of_a_pair_folded_along_their_edge():
 
 
 def test_sharp_edges_are_the_box_edges():
-    V, F = box_mesh(k=7)
+    V, F = shapes.box(np.linspace(0.0, 1.0, 7), top=False)
     E = sharp_edges(V, F, 60.0)
     # the 4 bottom edges and the 4 vertical ones, 6 grid edges each
     assert len(E) == 48
@@ -31,15 +31,15 @@ def test_sharp_edges_are_the_box_edges():
         sharp_edges(V, F, 180.0)
 
 
-def test_remesh_keeps_the_creases_of_an_open_box_mesh():
-    # CAD-like: grid lines crowded towards the box's edges (slivers along them)
-    t = np.cumsum(np.r_[0.0, 1.4 ** np.abs(np.arange(-6, 7))])
-    V, F = box_mesh(spacing=t / t[-1])
+def test_remesh_keeps_the_creases_of_an_open_box():
+    # CAD-like: grid lines crowded towards the box's edges (slivers along them), 15
+    # grid edges along each of the box's 8 edges
+    V, F = shapes.open_box()
     diag = np.sqrt(3.0)
     for faces in (len(F), len(F) // 2):
         plain = remesh(V, F, faces)
         r = remesh(V, F, faces, creases=60.0)
-        assert r.stats["crease_edges"] == 8 * (len(t) - 1) and len(r.stats["crease_piece_faces"]) == 5
+        assert r.stats["crease_edges"] == 8 * 15 and len(r.stats["crease_piece_faces"]) == 5
         assert abs(len(r.F) - faces) <= 0.05 * faces
         assert euler_characteristic(r.F) == 1 and len(boundary_loops(r.F)) == 1 and not len(nonmanifold_edges(r.F))
         # every output vertex on a side; the box's 8 corners kept
@@ -54,7 +54,7 @@ def test_remesh_keeps_the_creases_of_an_open_box_mesh():
 
 
 def test_remesh_keeps_the_creases_of_a_closed_cube():
-    V, F = box_mesh(k=9, top=True)
+    V, F = shapes.cube()
     r = remesh(V, F, creases=60.0)
     # (those of the cube's 12 * 8 crease edges that the cut into a disk follows are on its
     # border already)
@@ -64,26 +64,11 @@ def test_remesh_keeps_the_creases_of_a_closed_cube():
     assert radius_ratio(r.V, r.F).min() >= 0.3
 
 
-def polar_disk(height):
-    """The unit disk on 20 rings of 48 vertices round a centre, raised to
-    ``height(r)``."""
-    r_, k = np.linspace(0.0, 1.0, 21)[1:], 48
-    R, A = np.meshgrid(r_, np.linspace(0.0, 2 * np.pi, k, endpoint=False), indexing="ij")
-    V = np.vstack([[0.0, 0.0, height(0.0)], np.column_stack([(R * np.cos(A)).ravel(), (R * np.sin(A)).ravel(),
-                                                            height(R).ravel()])])
-    ring = np.arange(k)
-    F = [np.column_stack([np.zeros(k, dtype=np.int64), 1 + ring, 1 + (ring + 1) % k])]
-    for i in range(len(r_) - 1):
-        a0, a1 = 1 + i * k + ring, 1 + i * k + (ring + 1) % k
-        F += [np.column_stack([a0, a0 + k, a1 + k]), np.column_stack([a0, a1 + k, a1])]
-    return V, np.concatenate(F)
-
-
 def test_creases_round_a_plateau_cut_the_ring_between_them_across():
     # the middle raised by 0.25 over a ring 0.1 wide, with a crease at each side of the
     # ring: neither touches the boundary, and the ring cut open is a strip 35 times as
     # long as wide, whose own map crowds
-    V, F = polar_disk(lambda r: np.clip((0.6 - r) * 2.5, 0.0, 0.25))
+    V, F = shapes.plateau()
     r = remesh(V, F, creases=60.0)
     plain = remesh(V, F)
     assert r.stats["crease_edges"] == 2 * 48 and len(r.stats["crease_piece_faces"]) > 3
@@ -96,7 +81,7 @@ def test_a_crease_round_a_small_top_is_kept():
     # a mesa: the top (r < 0.5) a sixth of the area, one closed crease round it, joined
     # to the boundary by one seam; the top's piece is planned at fewer levels than the
     # rest, which does not drop a crease's cut as it does a crowded one's
-    V, F = polar_disk(lambda r: np.where(r <= 0.5 + 1e-9, 0.25, 0.25 - 2 * (r - 0.5)))
+    V, F = shapes.mesa()
     r = remesh(V, F, creases=60.0)
     plain = remesh(V, F)
     assert r.stats["crease_cuts"] == 2 and len(r.stats["crease_piece_faces"]) == 2
@@ -106,7 +91,7 @@ def test_a_crease_round_a_small_top_is_kept():
 
 
 def test_creases_need_the_relaxation_and_an_angle_in_range():
-    V, F = box_mesh()
+    V, F = shapes.cube()
     with pytest.raises(ValueError, match=r"^keeping creases needs the relaxation \(relax > 0\) and a method other than 'uniform'$"):
         remesh(V, F, creases=60.0, relax=0)
     with pytest.raises(ValueError, match=r"^the crease angle must be between 0 and 180 degrees, not -1.0$"):
