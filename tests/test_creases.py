@@ -50,7 +50,7 @@ def test_remesh_keeps_the_creases_of_an_open_box():
         assert hausdorff_distance(V, F, r.V, r.F)[0] < 1e-6 * diag
         assert hausdorff_distance(V, F, plain.V, plain.F)[0] > 0.01 * diag
         q = radius_ratio(r.V, r.F)
-        assert q.min() >= 0.3 and q.mean() >= 0.94
+        assert q.min() >= 0.6 and q.mean() >= 0.94
 
 
 def test_remesh_keeps_the_creases_of_a_closed_cube():

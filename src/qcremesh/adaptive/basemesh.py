@@ -174,7 +174,8 @@ def _flip_quality(uv, X, F, f1, f2, a, b, c, d):
 
 def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
     """Flip edges of a disk mesh so that its boundary vertices have three faces each, as
-    a straight border of equilateral triangles does.
+    a straight border of equilateral triangles does, and its corners as many as their
+    angle asks for.
 
     A Delaunay triangulation of landmarks on the circle gives many of them two faces (two
     right angles where the surface border is straight) or four; subdivision keeps the
@@ -182,11 +183,13 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
     no relaxation mends (a star-shaped planar domain: mean radius ratio 0.963 at the
     border, 0.977 with these flips). An edge (a, b) with faces (a, b, c) and (b, a, d)
     becomes (c, d), which takes a face from a and b and gives one to c and d, when that
-    lowers sum (faces - 3)^2 over the ``boundary`` vertices, keeps the interior valences
-    within 5-7, makes two faces counter-clockwise in the disk whose smaller radius ratio
-    on the surface (at ``X``) is at least ``VALENCE_FLIP_QUALITY`` and at least that of
-    the two faces replaced. Each round flips, best gain first, edges that share no
-    vertex.
+    lowers sum (3 / wanted)^2 (faces - wanted)^2 over the vertices with a wanted count
+    (a face too many at a right-angled corner, which wants 2, turns its faces' angles
+    from 45 to 30 degrees; at a straight border, from 60 to 45), keeps the
+    interior valences within 5-7, makes two faces counter-clockwise in the disk whose
+    smaller radius ratio on the surface (at ``X``) is at least ``VALENCE_FLIP_QUALITY``
+    and at least that of the two faces replaced. Each round flips, best gain first, edges
+    that share no vertex.
 
     Parameters
     ----------
@@ -195,9 +198,10 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
         Counter-clockwise triangles of the disk.
     X : (n, 3) float
         The vertices' points on the surface.
-    boundary : (n,) bool
-        The boundary vertices whose face count is to be 3 (not the corners, whose angle
-        asks for another count).
+    boundary : (n,) bool or int
+        The faces wanted at each vertex: 3 where True (a straight border), the count
+        given where an int (a corner of angle a: about a / 60 degrees), none where False
+        or 0.
     rounds : int
 
     Returns
@@ -208,13 +212,21 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
     """
     on = np.zeros(len(uv), dtype=bool)
     on[boundary_edges(F).ravel()] = True
+    boundary = np.asarray(boundary)
+    wanted = 3 * boundary.astype(np.int64) if boundary.dtype == bool else boundary.astype(np.int64)
+    # A face more or less turns the faces' angles at a vertex of angle 60 w by about
+    # 60 / w degrees: the squares weighed by (3 / w)^2, 1 on a straight border.
+    weight = np.where(wanted > 0, (3.0 / np.maximum(wanted, 1)) ** 2, 0.0)
 
     def gain(F, f1, f2, a, b, c, d):
         count = np.bincount(F.ravel(), minlength=len(uv))
-        excess = np.where(boundary, count - 3, 0)
-        # (faces - 3)^2 of a and b with one face less, of c and d with one more
-        drop = 2 * (excess[a] + excess[b] - excess[c] - excess[d]) - (
-            boundary[a].astype(int) + boundary[b] + boundary[c] + boundary[d]
+        excess = np.where(wanted > 0, count - wanted, 0)
+        # w (faces - wanted)^2 of a and b with one face less, of c and d with one more
+        drop = (
+            weight[a] * (2 * excess[a] - 1)
+            + weight[b] * (2 * excess[b] - 1)
+            - weight[c] * (2 * excess[c] + 1)
+            - weight[d] * (2 * excess[d] + 1)
         )
         # an interior vertex has as many neighbours as faces
         interior_ok = (on[a] | (count[a] > 5)) & (on[b] | (count[b] > 5)) & (on[c] | (count[c] < 7)) & (
