@@ -315,6 +315,18 @@ def test_cells_far_from_equal_mean_fewer_levels():
     assert radius_ratio(r.V, r.F).mean() >= 0.97
 
 
+def test_a_face_at_a_tenth_of_its_count_uses_one_level_fewer():
+    """human_face.obj at a tenth of its face count: with two levels the CVT's cells
+    (about 110 landmarks over nose, lips and eyes) have areas whose coefficient of
+    variation is 0.29, and the output has mean radius ratio 0.953, min 0.32, Hausdorff
+    distance 4.1 %; with one level 0.963, 0.50, 1.2 %."""
+    V, F = read_mesh(DATA / "human_face.obj")
+    r = remesh(V, F, faces=len(F) // 10)
+    assert r.stats["levels"] == 1
+    quality = mesh_quality(r.V, r.F, reference=(V, F))
+    assert quality["q_mean"] >= 0.96 and quality["q_min"] >= 0.45 and quality["hausdorff"] < 0.02
+
+
 def test_default_method_is_the_teichmuller_map(fran, fran_result):
     """By default the Teichmueller map of the level below the output starts the
     relaxation; its coefficient is carried to the four children of each face."""

@@ -124,9 +124,13 @@ NONCONFORMAL_RINGS = 3
 # factor across one base-mesh edge: a tube 40 long and of radius 1 at 1,700 faces gets base
 # edges 2.4 long with two levels, across which the scale changes by e^2.4, and the surface
 # areas of the CVT's cells have a coefficient of variation of 1.1 (mean radius ratio 0.89,
-# a third of the faces due on its far half); 0.16 with one level (0.98). The disk meshes of
-# ../shared/data: at most 0.30. Above MAX_CELL_SPREAD, fewer levels are used.
-MAX_CELL_SPREAD = 0.5
+# a third of the faces due on its far half); 0.16 with one level (0.98). Above
+# MAX_CELL_SPREAD, fewer levels are used. The disk meshes of ../shared/data at their face
+# count and half of it: 0.16-0.29 (human_brain at half 0.26-0.285 over seeds 0-3); at a
+# tenth of it, human_face 0.29 and human_brain 0.36, where one level fewer (none for
+# human_brain) raised the mean radius ratio by 0.01-0.02 (seeds 0-1; 0.005-0.01 at a
+# quarter of human_brain's count, 0.32) and min q and the Hausdorff distance mostly.
+MAX_CELL_SPREAD = 0.28
 
 # A base mesh more than this fraction away from its planned face count gets its interior
 # landmarks drawn again, their number corrected.
