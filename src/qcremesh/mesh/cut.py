@@ -113,7 +113,7 @@ def edge_paths(E, n, stops=None):
     Returns
     -------
     list of (p_i,) int64
-        Each path's vertices, in the order of the least vertex first seen.
+        Each path's vertices, the paths ordered by their first vertex.
     """
     keys = unique_integers(_edge_keys(np.asarray(E, dtype=np.int64).reshape(-1, 2), n))
     E = _keys_to_edges(keys, n)
