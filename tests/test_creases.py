@@ -90,6 +90,24 @@ def test_a_crease_round_a_small_top_is_kept():
     assert q.min() >= 0.3 and q.mean() >= 0.95
 
 
+def test_a_step_one_face_wide_keeps_both_creases():
+    # a flat sheet with a steep band one grid column wide (x in [0.5, 0.55], rising 0.3):
+    # cut along its two creases the band is a strip with no interior vertex, split
+    # 1-to-4 before its remesh
+    t = np.r_[np.linspace(0.0, 0.5, 11), np.linspace(0.55, 1.0, 10)]
+    X, Y = np.meshgrid(t, np.linspace(0.0, 1.0, 21), indexing="ij")
+    V = np.column_stack([X.ravel(), Y.ravel(), np.where(X >= 0.55 - 1e-9, 0.3, 0.0).ravel()])
+    F = shapes._grid_faces(21)
+    for faces in (len(F), len(F) // 2):
+        r = remesh(V, F, faces, creases=60.0)
+        assert r.stats["crease_cuts"] == 2 and len(r.stats["crease_piece_faces"]) == 3
+        assert abs(len(r.F) - faces) <= 0.05 * faces
+        assert euler_characteristic(r.F) == 1 and len(boundary_loops(r.F)) == 1
+        assert hausdorff_distance(V, F, r.V, r.F)[0] < 1e-6
+        q = radius_ratio(r.V, r.F)
+        assert q.min() >= 0.6 and q.mean() >= 0.94
+
+
 def test_creases_need_the_relaxation_and_an_angle_in_range():
     V, F = shapes.cube()
     with pytest.raises(ValueError, match=r"^keeping creases needs the relaxation \(relax > 0\) and a method other than 'uniform'$"):

@@ -503,7 +503,7 @@ def _crease_cuts(V, F, sharp, paths, faces):
     return edge_paths(cut, len(V), stops=boundary_edges(F).ravel())
 
 
-def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, options, name="crowded", level_rule=True):
+def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, options, name="crowded"):
     """:func:`remesh` of a disk cut along ``paths`` (from :func:`_crowded_cuts`, where
     its map crowds parts of the boundary, or :func:`_crease_cuts`) into pieces, each
     remeshed on its own map with a share of the faces by area (counted times sizing^-2
@@ -514,12 +514,16 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
     field), all at the same levels, and welded along the paths
     (:func:`qcremesh.mesh.cut.weld_along_paths`, every level; a coarse level that does
     not weld into a disk is dropped). A path that would cut off a piece of fewer than
-    MIN_PIECE_FACES faces, or without an interior vertex, or, with ``level_rule``,
-    planned at fewer levels than one below the largest piece (:func:`_planned_levels`;
-    every piece would take them: Hand1.off's cut disk at half its face count, two pieces
-    of a few hundred faces at no level, took 11.9 s instead of 5.3 s, mean q 0.966
-    instead of 0.987), is not cut (the creases' cuts go without the level rule: a mesa
-    whose top is a sixth of its area lost its rim's crease to it, Hausdorff 1.3 %).
+    MIN_PIECE_FACES faces is not cut; nor, for the crowded cuts (``name`` "crowded"), one
+    that would cut off a piece without an interior vertex, or planned at fewer levels
+    than one below the largest piece (:func:`_planned_levels`; every piece would take
+    them: Hand1.off's cut disk at half its face count, two pieces of a few hundred faces
+    at no level, took 11.9 s instead of 5.3 s, mean q 0.966 instead of 0.987). The
+    creases' cuts keep such pieces (a mesa whose top is a sixth of its area lost its
+    rim's crease to the level rule, Hausdorff 1.3 %; a step's steep band one face wide,
+    a strip, lost both its creases), and a strip is split 1-to-4 first. Where a piece is
+    then not a disk (a crease's closed loop whose join to the boundary went with a small
+    piece), None.
     Joined as :func:`_join` with ``stats[name + "_cuts"]`` (the paths cut) and
     ``stats[name + "_piece_faces"]``; None where the output does not weld into a disk."""
     density = None if sizing is None else sizing.max() / sizing
@@ -547,9 +551,9 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
             share = int(round(faces * area[k] / area.sum()))
             pieces.append((V_cut[used], local.reshape(-1, 3), share, np.flatnonzero(ends[used]), piece_data,
                            None if cut_density is None else cut_density[used]))
-            if share < MIN_PIECE_FACES or on_boundary[used].all():
+            if share < MIN_PIECE_FACES or (name == "crowded" and on_boundary[used].all()):
                 small.append(members[-1])
-        if not small and level_rule:
+        if not small and name == "crowded":
             # Pieces planned at fewer levels than one below the largest's (which all
             # pieces would then take) are not cut off.
             planned = [_planned_levels(Vk, Fk, share, options["levels"], dk) for Vk, Fk, share, _, _, dk in pieces]
@@ -557,11 +561,15 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
             small = [vertices for vertices, level in zip(members, planned) if level < most - 1]
         if not small:
             break
-        # The paths that cut off a piece too small or without an interior vertex go.
+        # The paths that cut off a piece too small, without an interior vertex or (with
+        # the level rule) planned at too few levels go.
         kept = [p for p in paths if not any(np.isin(p[[0, -1]], u).all() for u in small)]
         if len(kept) == len(paths):
             return None
         paths = kept
+    if any(euler_characteristic(Fk) != 1 or len(boundary_loops(Fk)) != 1 for _, Fk, *_ in pieces):
+        # (a crease's closed loop whose join to the boundary went with a small piece)
+        return None
     # Every piece at the levels of the one that can have the fewest (those that had more
     # remeshed again).
     results = [None] * len(pieces)
@@ -664,22 +672,32 @@ def _join(results, stats, faces_key):
     return RemeshResult(V_out, F_out, main.uv, joined, out_data, main.disk_levels, main.mu, stats, times)
 
 
-def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, data, stats, options):
+def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, boundary_edge_length, data, stats, options):
     """:func:`remesh` of a mesh that the disk validation refused for its topology (after the
     repairs): several pieces remeshed each (:func:`_remesh_pieces`); a disk with every
     vertex on its boundary (a strip or fan of triangles, which the disk map cannot take)
-    split 1-to-4 until it has an interior vertex, the same surface; any other manifold
-    surface cut open, remeshed and welded (:func:`_remesh_cut`). None for a mesh that is
-    none of these (a triangle soup, a non-manifold one), whose validation error stands."""
+    split 1-to-4 until it has an interior vertex, the same surface (with the
+    ``boundary_edge_length`` given, as a piece of a disk cut along its creases can be);
+    any other manifold surface cut open, remeshed and welded (:func:`_remesh_cut`). None
+    for a mesh that is none of these (a triangle soup, a non-manifold one), whose
+    validation error stands.
+
+    Raises
+    ------
+    ValueError
+        Where ``boundary_edge_length`` is given for a surface other than such a disk."""
     pieces, label = connected_components(F, len(V))
+    loops = boundary_loops(F)
+    strip = len(loops) == 1 and len(loops[0]) == len(V)
+    if boundary_edge_length is not None and not (strip and pieces == 1):
+        raise ValueError("boundary_edge_length is taken only on a disk")
     if pieces > 1 and np.bincount(F.ravel()).max() > 1:
         if corners is not None and len(corners):
             raise ValueError("corners are taken only on a disk")
         return _remesh_pieces(V, F, label, pieces, faces, sizing, fixed_boundary, data, stats, options)
     if genus(F, len(V)) is None:
         return None
-    loops = boundary_loops(F)
-    if len(loops) == 1 and len(loops[0]) == len(V):
+    if strip:
         fields = [V] + [np.reshape(v, (len(V), -1)) for v in (data or {}).values()]
         fields += [] if sizing is None or isinstance(sizing, str) else [np.reshape(sizing, (-1, 1))]
         X, F_fine = np.column_stack(fields), F
@@ -691,7 +709,7 @@ def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, data, stats, 
         fine_sizing = parts[-1][:, 0] if len(parts) > len(fine_data) else sizing
         result = remesh(
             V_fine, F_fine, faces, sizing=fine_sizing, fixed_boundary=fixed_boundary, corners=corners,
-            data=fine_data if data else data, **options,
+            boundary_edge_length=boundary_edge_length, data=fine_data if data else data, **options,
         )
         result.stats.update(stats, subdivided_input=True)
         return result
@@ -841,8 +859,8 @@ def remesh(
         boundary, which are seams only) into pieces, remeshed as the crowded ones are
         and welded back (``stats["crease_edges"]``, ``stats["crease_cuts"]``,
         ``stats["crease_piece_faces"]``; ``stats["creases_kept"]`` False where every cut
-        would leave a piece too small or the pieces did not weld back, and the disk was
-        remeshed whole). Needs ``relax`` and a method
+        would leave a piece too small, a piece is not a disk or is refused, or the pieces
+        did not weld back, and the disk was remeshed whole). Needs ``relax`` and a method
         other than ``"uniform"``. None (the default): not looked for.
     data : dict of str to (n,) or (n, d) array, optional
         Per-vertex attributes (normals, colours, scalars, UVs) to carry to the output.
@@ -916,10 +934,10 @@ def remesh(
             V, F, data, sizing = repaired
             dm = disk_conformal_map(V, F)
     except TopologyError:
-        if boundary_edge_length is not None:
-            raise ValueError("boundary_edge_length is taken only on a disk") from None
         sizing = "curvature" if curvature else sizing
-        result = _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, data, stats, options)
+        result = _remesh_not_disk(
+            V, F, faces, sizing, fixed_boundary, corners, boundary_edge_length, data, stats, options
+        )
         if result is None:
             raise
         return result
@@ -958,9 +976,15 @@ def remesh(
             twins = bnd[twins]
             ends = np.concatenate([p[[0, -1]] for p in paths])
             given = np.union1d(given, twins[np.isin(twins, ends).any(axis=1)].ravel())
-        result = _remesh_along_paths(
-            V, F, paths, faces, given, sizing, data, stats, options, name, level_rule=name == "crowded"
-        )
+        try:
+            result = _remesh_along_paths(V, F, paths, faces, given, sizing, data, stats, options, name)
+        except ValueError:
+            if name != "crease":
+                raise
+            # pieces that the remesh refuses (featuretype.STL welded at its cracks, a
+            # CAD part of genus 9 with fillets a face wide: a piece's corner off its
+            # boundary): remeshed without the creases, as where they do not weld
+            result = None
         if result is not None:
             result.times["parameterize"] = result.times.get("parameterize", 0.0) + times["parameterize"]
             return result
