@@ -248,6 +248,26 @@ def test_boundary_corners_in_the_metric_of_a_density_do_not_depend_on_its_scale(
     assert len(boundary_corners(V, bnd, scale=0.15)) > 4
 
 
+def test_two_sides_of_a_cut_keep_the_same_of_two_close_corners():
+    """A seam with a step: two right-angled turns 0.1 apart, closer than half the scale,
+    so one is kept. The two sides of the cut run along it in opposite directions; both
+    keep the same point (the tie between the two equal turns broken by position, not by
+    the order along the loop)."""
+    seam = np.array([[0.0, 0, 0], [1, 0, 0], [2, 0, 0], [2, 0.1, 0], [3, 0.1, 0], [4, 0.1, 0]])
+    seam = np.concatenate([seam[:3], np.linspace(seam[2], seam[3], 3)[1:], seam[4:]])
+    far = np.array([[4.0, 3.0, 0.0], [0.0, 3.0, 0.0]])
+    kept = []
+    for path in (seam, seam[::-1]):
+        V = np.concatenate([path, far if path is seam else far[::-1]])
+        bnd = np.arange(len(V))
+        ends = [0, len(path) - 1]
+        corners = boundary_corners(V, bnd, scale=0.3, pieces=ends)
+        on_seam = corners[(corners > 0) & (corners < len(path) - 1)]
+        assert len(on_seam) == 1
+        kept.append(V[on_seam[0]])
+    np.testing.assert_array_equal(kept[0], kept[1])
+
+
 def test_delaunay_disk_mesh_leaves_out_points_at_the_boundary():
     """A point between an edge of the boundary polygon and its arc would become a
     boundary vertex, one just inside an edge a sliver: both are left out."""

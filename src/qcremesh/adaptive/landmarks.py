@@ -151,7 +151,11 @@ def boundary_corners(V, bnd, angle=45.0, scale=None, pieces=None, density=None):
     if scale is None or len(candidates) < 2:
         return candidates
     kept = []
-    for c in candidates[np.argsort(-turn[candidates], kind="stable")]:
+    # Sharpest first; equal turns (to 1e-6 degree) in the order of their points, so that
+    # the two sides of a cut, which run along it in opposite directions, keep the same
+    # one of two corners closer than scale / 2 (featuretype.STL's seams did not weld).
+    order = np.lexsort((P[candidates, 2], P[candidates, 1], P[candidates, 0], -np.round(turn[candidates], 6)))
+    for c in candidates[order]:
         gap = np.abs(s[c] - s[kept])
         if np.all(np.minimum(gap, perimeter - gap) >= scale / 2):
             kept.append(c)
