@@ -327,3 +327,26 @@ def test_held_vertex_moves_only_below_its_floor():
         assert np.any(Xt[v] != X[v]) == moves
         if moves:
             assert radius_ratio(Xt, Fo[VF[v].indices]).min() >= 0.4
+
+
+def test_tangent_candidates_of_a_folded_star_stay_at_the_vertex():
+    """A vertex whose star is folded onto itself (its faces' normals sum to zero) has no
+    tangent plane: its candidates stay where it is (they were NaN, with a warning)."""
+    import warnings
+
+    from qcremesh.remeshing.stars import tangent_candidates
+
+    V, F, uv = plane(6)
+    # an output vertex at the centre with two faces folded onto each other
+    X = np.array([[0.5, 0.5, 0.0], [0.7, 0.5, 0.0], [0.5, 0.7, 0.0]])
+    Fo = np.array([[0, 1, 2], [0, 2, 1]])
+    VF = vertex_face_incidence(Fo, len(X)).tocsr()
+    face = locate_points(uv, F, X[:, :2])[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        Xc, uvc, fc = tangent_candidates(
+            X, Fo, VF, np.array([0]), np.array([0.1]), face, V, F, uv, vertex_face_incidence(F, len(V)).tocsr(),
+            np.array([0.5, 1.0]),
+        )
+    np.testing.assert_allclose(Xc[0], np.broadcast_to(X[0], Xc[0].shape), atol=1e-12)
+    np.testing.assert_allclose(uvc[0], np.broadcast_to(X[0, :2], uvc[0].shape), atol=1e-12)

@@ -88,7 +88,8 @@ def tangent_candidates(X, Fo, VF, verts, reach, face, V, F, disk_uv, vertex_face
     )
     normal /= np.maximum(norm(normal), 1e-300)[:, None]
     t1 = cross(normal, np.eye(3)[np.argmin(np.abs(normal), axis=1)])
-    t1 /= norm(t1)[:, None]
+    # (a star whose faces' normals cancel, folded onto itself, has none: no offsets)
+    t1 /= np.maximum(norm(t1), 1e-300)[:, None]
     t2 = cross(normal, t1)
     offsets = (np.cos(angles)[:, None, None] * t1 + np.sin(angles)[:, None, None] * t2)[:, None]
     offsets = offsets * (steps[None, :, None, None] * reach[:, None])
