@@ -296,7 +296,7 @@ def test_remesh_cli_keeps_creases(tmp_path, capsys):
     path = tmp_path / "box.ply"
     write_mesh(path, *shapes.box(np.linspace(0.0, 1.0, 9), top=False))
     out = tmp_path / "r.obj"
-    assert main(["remesh", str(path), "-o", str(out), "--creases", "60"]) == 0
+    assert main(["remesh", str(path), "-o", str(out), "--creases"]) == 0  # 60 degrees
     text = capsys.readouterr().out
     assert (
         "creases: 64 edges turn by more than 60 degrees; cut along 8 paths into 5 pieces, remeshed each and "

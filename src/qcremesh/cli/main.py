@@ -126,9 +126,11 @@ def _parser():
     r.add_argument(
         "--creases",
         type=float,
+        nargs="?",
+        const=60.0,
         metavar="DEG",
-        help="keep the creases: the edges across which the surface turns by more than DEG degrees (CAD "
-        "tessellations) become output edges",
+        help="keep the creases: the edges across which the surface turns by more than DEG degrees (60 if "
+        "not given; CAD tessellations) become output edges",
     )
     r.add_argument("--report", metavar="DIR", help="write figures and report.html into DIR")
 
