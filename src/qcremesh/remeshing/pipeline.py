@@ -395,7 +395,17 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     try:
         F_cut, parent, cut = cut_to_disk(V, F, len(V))
     except ValueError as error:
-        raise TopologyError(f"cannot cut the surface open into a disk: {error}") from error
+        # Boundary vertices at the same points as others: cracks between faces whose
+        # shared corners were written apart (a CAD part saved face by face).
+        border = np.unique(boundary_edges(F))
+        tol = 1e-9 * np.linalg.norm(np.ptp(V, axis=0))
+        twins = np.unique(cKDTree(V[border]).query_pairs(tol, output_type="ndarray"))
+        hint = (
+            f" ({len(twins)} of its {len(border)} boundary vertices lie at the same points as others: "
+            "cracks between faces whose shared corners are not one vertex; merge them first)"
+            if len(twins) else ""
+        )
+        raise TopologyError(f"cannot cut the surface open into a disk: {error}{hint}") from error
     edge = _output_edge_length(V, F, faces)
     if isinstance(sizing, str):
         # on the surface, not on the cut disk: the two sides of a cut see the same
