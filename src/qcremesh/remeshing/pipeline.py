@@ -378,6 +378,14 @@ def _weld_levels(levels, join, chi, loops):
     return welded[-1], hierarchy
 
 
+def _coincident_pairs(V, vertices):
+    """The pairs of ``vertices`` at the same point (within 1e-9 of the bounding-box
+    diagonal), as vertex indices, (p, 2) int."""
+    vertices = np.asarray(vertices)
+    tol = 1e-9 * np.linalg.norm(np.ptp(V, axis=0))
+    return vertices[cKDTree(V[vertices]).query_pairs(tol, output_type="ndarray")]
+
+
 def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     """:func:`remesh` of a surface that is not a disk (closed, with holes, with handles):
     cut open into a disk (:func:`qcremesh.mesh.cut.cut_to_disk`), remeshed with a fixed
@@ -398,8 +406,7 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
         # Boundary vertices at the same points as others: cracks between faces whose
         # shared corners were written apart (a CAD part saved face by face).
         border = np.unique(boundary_edges(F))
-        tol = 1e-9 * np.linalg.norm(np.ptp(V, axis=0))
-        twins = np.unique(cKDTree(V[border]).query_pairs(tol, output_type="ndarray"))
+        twins = np.unique(_coincident_pairs(V, border))
         hint = (
             f" ({len(twins)} of its {len(border)} boundary vertices lie at the same points as others: "
             "cracks between faces whose shared corners are not one vertex; merge them first)"
@@ -982,8 +989,7 @@ def remesh(
         if fixed_boundary:
             # the boundary vertices at the same points as the paths' ends (their twins
             # on the other side of a cut that the caller welds) are corners too
-            twins = cKDTree(V[bnd]).query_pairs(1e-9 * np.linalg.norm(np.ptp(V, axis=0)), output_type="ndarray")
-            twins = bnd[twins]
+            twins = _coincident_pairs(V, bnd)
             ends = np.concatenate([p[[0, -1]] for p in paths])
             given = np.union1d(given, twins[np.isin(twins, ends).any(axis=1)].ravel())
         try:
