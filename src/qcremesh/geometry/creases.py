@@ -7,7 +7,13 @@ import numpy as np
 from ..mesh.topology import half_edges, twin_half_edges
 from .vectors import cross, norm
 
-__all__ = ["dihedral_angles", "sharp_edges"]
+__all__ = ["check_crease_angle", "dihedral_angles", "sharp_edges"]
+
+
+def check_crease_angle(angle):
+    """Raise ValueError unless 0 < ``angle`` < 180 (degrees)."""
+    if not 0.0 < angle < 180.0:
+        raise ValueError(f"the crease angle must be between 0 and 180 degrees, not {angle}")
 
 
 def dihedral_angles(V, F):
@@ -43,7 +49,6 @@ def dihedral_angles(V, F):
 def sharp_edges(V, F, angle):
     """Interior edges across which the surface turns by more than ``angle`` degrees
     (:func:`dihedral_angles`), (k, 2) int64."""
-    if not 0.0 < angle < 180.0:
-        raise ValueError(f"the crease angle must be between 0 and 180 degrees, not {angle}")
+    check_crease_angle(angle)
     E, turn = dihedral_angles(V, F)
     return E[turn > angle]

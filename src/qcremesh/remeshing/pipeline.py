@@ -63,7 +63,7 @@ from ..adaptive.landmarks import (
 from ..adaptive.sizing import check_sizing, curvature_sizing, hole_sizing
 from ..beltrami.coefficient import coherent_mu
 from ..beltrami.teichmuller import teichmuller_map
-from ..geometry.creases import sharp_edges
+from ..geometry.creases import check_crease_angle, sharp_edges
 from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import doublearea, vertex_areas
 from ..geometry.quality import corner_radius_ratio_bound, radius_ratio, triangle_angles
@@ -378,6 +378,18 @@ def _weld_levels(levels, join, chi, loops):
     return welded[-1], hierarchy
 
 
+def _split_pieces(F, label, count):
+    """Each piece's vertices and faces: for piece k (``label`` (m,) the piece of each face,
+    0..count-1), the vertices its faces use (sorted) and its faces renumbered over them,
+    in their order in ``F``."""
+    by_piece = np.split(F[np.argsort(label, kind="stable")], np.cumsum(np.bincount(label, minlength=count))[:-1])
+    pieces = []
+    for G in by_piece:
+        used, local = np.unique(G, return_inverse=True)
+        pieces.append((used, local.reshape(-1, 3)))
+    return pieces
+
+
 def _coincident_pairs(V, vertices):
     """The pairs of ``vertices`` at the same point (within 1e-9 of the bounding-box
     diagonal), as vertex indices, (p, 2) int."""
@@ -504,9 +516,8 @@ def _crease_cuts(V, F, sharp, paths, faces):
         count, label = connected_components(F_cut, len(parent))
         area = np.bincount(label, doublearea(V[parent], F_cut), count)
         more = []
-        for k in range(count):
-            used, local = np.unique(F_cut[label == k], return_inverse=True)
-            Vk, Fk = V[parent[used]], local.reshape(-1, 3)
+        for k, (used, Fk) in enumerate(_split_pieces(F_cut, label, count)):
+            Vk = V[parent[used]]
             try:
                 dm = disk_conformal_map(Vk, Fk)
             except MeshError:
@@ -524,8 +535,8 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
     """:func:`remesh` of a disk cut along ``paths`` (from :func:`_crowded_cuts`, where
     its map crowds parts of the boundary, or :func:`_crease_cuts`) into pieces, each
     remeshed on its own map with a share of the faces by area (counted times sizing^-2
-    with a ``sizing`` field, (n,) or None), a fixed boundary whose corners are the paths' ends and the input vertices
-    ``corners`` on it, and the boundary edge length planned for the whole (so that both
+    with a ``sizing`` field, (n,) or None), a fixed boundary whose corners are the
+    paths' ends and the input vertices ``corners`` on it, and the boundary edge length planned for the whole (so that both
     sides of a path get the same vertices; in the metric of the sizing field, which each
     piece scales to a largest value of 1, so with the edge length scaled as the piece's
     field), all at the same levels, and welded along the paths
@@ -561,12 +572,11 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
         on_boundary = np.zeros(len(parent), dtype=bool)
         on_boundary[boundary_edges(F_cut).ravel()] = True
         pieces, small, members = [], [], []
-        for k in range(count):
-            used, local = np.unique(F_cut[label == k], return_inverse=True)
+        for k, (used, local) in enumerate(_split_pieces(F_cut, label, count)):
             members.append(parent[used])
             piece_data = {name: np.asarray(v)[parent][used] for name, v in data.items()} if data else data
             share = int(round(faces * area[k] / area.sum()))
-            pieces.append((V_cut[used], local.reshape(-1, 3), share, np.flatnonzero(ends[used]), piece_data,
+            pieces.append((V_cut[used], local, share, np.flatnonzero(ends[used]), piece_data,
                            None if cut_density is None else cut_density[used]))
             if share < MIN_PIECE_FACES or (name == "crowded" and on_boundary[used].all()):
                 small.append(members[-1])
@@ -622,16 +632,14 @@ def _remesh_pieces(V, F, label, count, faces, sizing, fixed_boundary, data, repa
     proportional to its area (at least 4), and the results joined (:func:`_join`, with
     ``stats["pieces"]``)."""
     area = np.bincount(label, doublearea(V, F), count)
-    by_piece = np.split(F[np.argsort(label, kind="stable")], np.cumsum(np.bincount(label, minlength=count))[:-1])
     results = []
-    for k, G in enumerate(by_piece):
-        used, local = np.unique(G, return_inverse=True)
+    for k, (used, local) in enumerate(_split_pieces(F, label, count)):
         share = max(int(round(faces * area[k] / area.sum())), 4)
         piece_sizing = sizing if sizing is None or isinstance(sizing, str) else np.asarray(sizing)[used]
         piece_data = {name: np.asarray(v)[used] for name, v in data.items()} if data else data
         results.append(
             remesh(
-                V[used], local.reshape(-1, 3), share, sizing=piece_sizing, fixed_boundary=fixed_boundary,
+                V[used], local, share, sizing=piece_sizing, fixed_boundary=fixed_boundary,
                 data=piece_data, **options,
             )
         )
@@ -908,8 +916,8 @@ def remesh(
         sizing = check_sizing(sizing, len(V))
     if (curvature or sizing is not None) and method == "uniform":
         raise ValueError("the 'uniform' method takes no sizing")
-    if creases is not None and not 0.0 < creases < 180.0:
-        raise ValueError(f"the crease angle must be between 0 and 180 degrees, not {creases}")
+    if creases is not None:
+        check_crease_angle(creases)
     if creases is not None and (relax == 0 or method == "uniform"):
         raise ValueError("keeping creases needs the relaxation (relax > 0) and a method other than 'uniform'")
     if fixed_boundary and (relax == 0 or method == "uniform"):
@@ -984,12 +992,12 @@ def remesh(
                 attempts.append(("crease", _crease_cuts(V, F, sharp, crowded_paths, faces)))
         if crowded_paths:
             attempts.append(("crowded", crowded_paths))
+    # the boundary vertices at the same points as the paths' ends (their twins on the
+    # other side of a cut that the caller welds) are corners too
+    twins = _coincident_pairs(V, bnd) if fixed_boundary and attempts else None
     for name, paths in attempts:
         given = np.zeros(0, dtype=np.int64) if corners is None else corners
-        if fixed_boundary:
-            # the boundary vertices at the same points as the paths' ends (their twins
-            # on the other side of a cut that the caller welds) are corners too
-            twins = _coincident_pairs(V, bnd)
+        if twins is not None:
             ends = np.concatenate([p[[0, -1]] for p in paths])
             given = np.union1d(given, twins[np.isin(twins, ends).any(axis=1)].ravel())
         try:
