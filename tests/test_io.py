@@ -52,6 +52,67 @@ def test_obj_with_texture_coordinates(tmp_path):
     np.testing.assert_allclose(data["uv"], uv * 0.5)
 
 
+def test_obj_with_texture_seams_negative_indices_and_normals(tmp_path):
+    """A square of four triangles around a centre vertex, written as a UV-mapped export
+    is: corners ``v/vt/vn``, a texture seam (vertex 2 has two texture coordinates), the
+    last face by negative indices. Positions and faces come through (meshio refused such
+    files); the texture coordinates, having a seam, are not per-vertex data; the normals,
+    one per vertex by value though named by different indices, are."""
+    path = tmp_path / "seams.obj"
+    path.write_text(
+        "# square\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 0.1\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\nvt 0.9 0.9\n"
+        "vn 0 0 1\nvn 0 0 1\ns off\ng square\n"
+        "f 1/1/1 2/2/1 5/5/2\nf 2/2/1 3/3/2 5/5/1\nf 3/6/1 4/4/1 5/5/1\nf -2/-3/-2 -5/-6/-1 -1/-2/-1\n"
+    )
+    V, F, data = read_mesh(path, return_data=True)
+    np.testing.assert_array_equal(V[4], [0.5, 0.5, 0.1])
+    np.testing.assert_array_equal(F, [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
+    assert "uv" not in data
+    np.testing.assert_array_equal(data["normals"], np.tile([0.0, 0.0, 1.0], (5, 1)))
+    seamless = tmp_path / "seamless.obj"
+    seamless.write_text(path.read_text().replace("f 3/6/1", "f 3/3/1"))
+    _, _, data = read_mesh(seamless, return_data=True)
+    np.testing.assert_array_equal(data["uv"], [[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0.5]])
+
+
+def test_ply_with_other_elements(tmp_path, capfd):
+    """A range map as MeshLab writes it, with a ``camera`` element before the vertices
+    (meshio refuses such files, and printed its complaint): read through plyfile, a quad
+    split as in OBJ, the vertex properties as data; nothing printed."""
+    path = tmp_path / "range.ply"
+    path.write_text(
+        "ply\nformat ascii 1.0\nelement camera 1\nproperty float view_px\nproperty float focal\n"
+        "element vertex 5\nproperty float x\nproperty float y\nproperty float z\nproperty float quality\n"
+        "element face 3\nproperty list uchar int vertex_indices\nproperty int flags\nend_header\n"
+        "0.5 2.0\n0 0 0 1\n1 0 0 2\n1 1 0 3\n0 1.5 0 4\n2 0.5 0 5\n"
+        "4 0 1 2 3 0\n3 1 4 2 0\n3 0 2 3 7\n"
+    )
+    V, F, data = read_mesh(path, return_data=True)
+    assert capfd.readouterr() == ("", "")
+    np.testing.assert_array_equal(V[3], [0, 1.5, 0])
+    np.testing.assert_array_equal(F, [[0, 1, 2], [0, 2, 3], [1, 4, 2], [0, 2, 3]])
+    np.testing.assert_array_equal(data["quality"], [1, 2, 3, 4, 5])
+    broken = tmp_path / "broken.ply"
+    broken.write_text(path.read_text().replace("4 0 1 2 3 0", "5 0 1 2 3 4 0"))
+    with pytest.raises(MeshReadError, match="not a triangle mesh \\(has polygon cells\\)"):
+        read_mesh(broken)
+
+
+def test_ply_keeps_data_of_several_columns(tmp_path, capfd):
+    """Per-vertex arrays of several columns, which meshio's PLY writer dropped with a
+    printed warning, become one property per column: normals as nx, ny, nz."""
+    uv, F = grid_disk(4)
+    V = np.column_stack([uv, np.zeros(len(uv))])
+    normals = np.tile([0.0, 0.0, 1.0], (len(V), 1))
+    write_mesh(tmp_path / "n.ply", V, F, data={"normals": normals, "rgb": V * 0.5, "s": uv[:, 0]})
+    assert capfd.readouterr() == ("", "")
+    _, _, data = read_mesh(tmp_path / "n.ply", return_data=True)
+    assert sorted(data) == ["nx", "ny", "nz", "rgb_0", "rgb_1", "rgb_2", "s"]
+    np.testing.assert_array_equal(data["nz"], 1.0)
+    np.testing.assert_allclose(data["rgb_1"], V[:, 1] * 0.5)
+
+
 def test_obj_bytes_are_deterministic(tmp_path):
     uv, F = grid_disk(5)
     V = np.column_stack([uv, uv[:, 0] ** 2])

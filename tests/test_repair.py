@@ -3,10 +3,16 @@ import pytest
 
 from conftest import grid_disk, split_vertex
 from qcremesh.geometry.operators import doublearea
-from qcremesh.geometry.quality import radius_ratio
+from qcremesh.geometry.quality import mesh_quality, radius_ratio
 from qcremesh.geometry.repair import repair_degenerate_faces
 from qcremesh.mesh.topology import boundary_loop, needles_and_caps
-from qcremesh.mesh.validate import DegenerateFaceError, OrientationError, check_disk, check_triangle_mesh
+from qcremesh.mesh.validate import (
+    DegenerateFaceError,
+    OrientationError,
+    UnreferencedVertexError,
+    check_disk,
+    check_triangle_mesh,
+)
 from qcremesh.remeshing.pipeline import remesh
 
 
@@ -93,3 +99,24 @@ def test_orient_faces_refuses_a_moebius_strip():
     F = np.array([f for a, b, c, d in quads for f in ([a, b, c], [a, c, d])])
     with pytest.raises(ValueError, match="not orientable"):
         orient_faces(F)
+
+
+def test_remesh_drops_vertices_no_face_uses():
+    """A bent grid with two stray vertices far from it, one listed first (which the
+    validation refuses): remesh drops them, carries the data of the others, and gives
+    the output it gives without them; the distance is measured over the surface only."""
+    uv, F = grid_disk(16, jitter=0.3)
+    V = np.column_stack([uv, 0.2 * np.sin(3 * uv[:, 0])])
+    stray = np.array([[50.0, 50.0, 50.0]])
+    W = np.vstack([stray, V, -stray])
+    G = F + 1
+    with pytest.raises(UnreferencedVertexError):
+        check_triangle_mesh(W, G)
+    r = remesh(W, G, faces=400, data={"height": W[:, 2]})
+    assert r.stats["unreferenced_vertices"] == 2
+    plain = remesh(V, F, faces=400, data={"height": V[:, 2]})
+    np.testing.assert_array_equal(r.V, plain.V)
+    np.testing.assert_array_equal(r.F, plain.F)
+    np.testing.assert_array_equal(r.data["height"], plain.data["height"])
+    far = mesh_quality(r.V, r.F, reference=(W, G))
+    assert far["hausdorff"] == mesh_quality(r.V, r.F, reference=(V, F))["hausdorff"]

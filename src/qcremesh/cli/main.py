@@ -246,6 +246,8 @@ def _remesh(args, out):
     mended = []
     if "duplicate_faces" in st:
         mended.append(f"{st['duplicate_faces']} faces listed more than once kept once")
+    if "unreferenced_vertices" in st:
+        mended.append(f"{st['unreferenced_vertices']} vertices no face uses dropped")
     if "reoriented_faces" in st:
         mended.append(f"{st['reoriented_faces']} faces turned against their neighbours reversed")
     if "repaired_needles" in st:

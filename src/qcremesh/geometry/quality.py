@@ -184,7 +184,8 @@ def mesh_quality(V, F, reference=None):
         ``boundary_loops``: connected components of the boundary edges;
         ``euler_characteristic``: V - E + F over the referenced vertices;
         ``manifold``: no edge with more than two faces and no pinched vertex.
-        With ``reference``, distances divided by the bounding-box diagonal of ``V0``:
+        With ``reference``, distances divided by the bounding-box diagonal of the
+        vertices of ``F0``:
         ``hausdorff`` and ``mean_distance`` between the surfaces
         (:func:`~qcremesh.geometry.distance.hausdorff_distance`), and
         ``boundary_hausdorff`` between the boundary edges
@@ -217,7 +218,8 @@ def mesh_quality(V, F, reference=None):
     if reference is not None:
         V0 = np.asarray(reference[0], dtype=np.float64)
         F0 = np.asarray(reference[1])
-        diag = float(np.linalg.norm(V0.max(0) - V0.min(0)))
+        used = V0[np.unique(F0)]  # vertices no face uses are not part of the surface
+        diag = float(np.linalg.norm(used.max(0) - used.min(0)))
         hausdorff, mean = hausdorff_distance(V, F, V0, F0)
         B0 = boundary_edges(F0)
         if len(B) and len(B0):

@@ -1,17 +1,21 @@
 """Reading and writing triangle meshes.
 
-Every format meshio knows is read through meshio (OBJ, PLY, OFF, STL, VTK/VTU, ...);
+OBJ is read and written here: meshio's reader refuses texture coordinates with seams
+(``f a/b`` where ``b`` is not ``a``, as every UV-mapped export has) and negative indices,
+and written here it carries texture coordinates as ``f a/a b/b c/c`` with bytes that do
+not depend on the time of day. PLY is read through meshio and, where meshio refuses a file
+(elements other than vertices and faces, as a range map's ``camera``), through plyfile.
 MATLAB ``.mat`` files with variables ``v`` and ``f`` (1-based), as distributed with the
-public quasi-conformal codes, are read through :func:`scipy.io.loadmat`.  OBJ is written
-here (so it can carry texture coordinates as ``f a/a b/b c/c`` and so the bytes do not
-depend on the time of day); every other output format goes through meshio.
+public quasi-conformal codes, are read through :func:`scipy.io.loadmat`. Every other
+format goes through meshio (OFF, STL, VTK/VTU, ...).
 """
 
 from __future__ import annotations
 
+import io
 import os
 import tempfile
-from contextlib import contextmanager
+from contextlib import contextmanager, redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import numpy as np
@@ -53,10 +57,18 @@ def read_mesh(path, *, return_data=False):
     path = Path(path)
     if not path.is_file():
         raise MeshReadError(f"{path}: no such file")
-    if path.suffix.lower() == ".mat":
+    suffix = path.suffix.lower()
+    if suffix == ".mat":
         V, F, data = _read_mat(path)
+    elif suffix == ".obj":
+        V, F, data = _read_obj(path)
     else:
-        V, F, data = _read_meshio(path)
+        try:
+            V, F, data = _read_meshio(path)
+        except MeshReadError:
+            if suffix != ".ply":
+                raise
+            V, F, data = _read_plyfile(path)
     V = np.ascontiguousarray(V, dtype=np.float64)
     if V.ndim != 2 or V.shape[1] not in (2, 3):
         raise MeshReadError(f"{path}: vertices must have 2 or 3 coordinates")
@@ -75,15 +87,16 @@ def read_mesh(path, *, return_data=False):
 def _read_meshio(path):
     import meshio
 
+    # meshio prints its parsers' complaints (and numpy overflow warnings on odd STL
+    # headers) besides raising: the exception alone reaches the caller.
     try:
-        m = meshio.read(path)
+        with redirect_stdout(io.StringIO()), redirect_stderr(io.StringIO()), np.errstate(all="ignore"):
+            m = meshio.read(path)
     except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
         raise MeshReadError(f"{path}: cannot read ({exc})") from exc
     tri = [c.data for c in m.cells if c.type == "triangle"]
     tri += [_split_quads(m.points, c.data) for c in m.cells if c.type == "quad"]
-    other = sorted({c.type for c in m.cells if c.type not in ("triangle", "quad", "vertex", "line")})
-    if other:
-        raise MeshReadError(f"{path}: not a triangle mesh (has {', '.join(other)} cells)")
+    _check_cell_types(path, {c.type for c in m.cells} - {"triangle", "quad", "vertex", "line"})
     if not tri:
         raise MeshReadError(f"{path}: no triangles in the file")
     data = {}
@@ -96,6 +109,111 @@ def _read_meshio(path):
     if "obj:vt" in data:
         data["uv"] = np.asarray(data.pop("obj:vt"))[:, :2]
     return m.points, np.concatenate(tri), data
+
+
+def _check_cell_types(path, other):
+    if other:
+        raise MeshReadError(f"{path}: not a triangle mesh (has {', '.join(sorted(other))} cells)")
+
+
+def _read_obj(path):
+    """Positions, faces and per-vertex data of a Wavefront OBJ file.
+
+    Face corners ``a``, ``a/t``, ``a/t/n`` or ``a//n`` name a position, a texture
+    coordinate and a normal; negative indices count back from the last one read. Texture
+    coordinates (data ``uv``) and normals (``normals``) are kept where every corner of a
+    vertex names the same value; a vertex with several (a seam of the texture) keeps the
+    positions and faces but not that data. Faces of more than four corners are refused.
+    """
+    try:
+        lines = path.read_text(errors="replace").splitlines()
+    except OSError as exc:
+        raise MeshReadError(f"{path}: cannot read ({exc})") from exc
+    head = np.array([line.split(maxsplit=1)[0] if line.strip() else "" for line in lines])
+    rows = {tag: [lines[i].split() for i in np.flatnonzero(head == tag)] for tag in ("v", "vt", "vn", "f")}
+    if not rows["f"]:
+        raise MeshReadError(f"{path}: no triangles in the file")
+    try:
+        V = np.array([r[1:4] for r in rows["v"]], dtype=np.float64)
+        vt = np.array([r[1:3] for r in rows["vt"]], dtype=np.float64)
+        vn = np.array([r[1:4] for r in rows["vn"]], dtype=np.float64)
+        sizes = np.fromiter(map(len, rows["f"]), dtype=np.int64, count=len(rows["f"])) - 1
+        corner = np.array([c for r in rows["f"] for c in r[1:]])
+        position, _, rest = np.char.partition(corner, "/").T
+        texture, _, normal = np.char.partition(rest, "/").T
+        refs = [np.where(part == "", "0", part).astype(np.int64) for part in (position, texture, normal)]
+    except ValueError as exc:
+        raise MeshReadError(f"{path}: cannot read ({exc})") from exc
+    if V.ndim != 2 or V.shape[1] != 3:
+        raise MeshReadError(f"{path}: cannot read (vertices need 3 coordinates)")
+    # 1-based, or negative from the last one read before the face's line
+    is_face = head == "f"
+    for k, tag in enumerate(("v", "vt", "vn")):
+        read_before = np.repeat(np.cumsum(head == tag)[is_face], sizes)
+        refs[k] = np.where(refs[k] < 0, read_before + refs[k], refs[k] - 1)
+    F = _polygons_to_triangles(path, V, refs[0], sizes)
+    data = {}
+    for name, ref, values in (("uv", refs[1], vt), ("normals", refs[2], vn)):
+        per_vertex = _per_vertex(refs[0], ref, values, len(V))
+        if per_vertex is not None:
+            data[name] = per_vertex
+    return V, F, data
+
+
+def _polygons_to_triangles(path, V, corners, sizes):
+    """Triangles of polygons given by their corners in a row and their sizes, in order:
+    triangles as they are, quads split along their shorter diagonal; larger polygons are
+    refused."""
+    _check_cell_types(path, {"polygon"} if np.any(sizes > 4) else set())
+    if np.any(sizes < 3):
+        raise MeshReadError(f"{path}: cannot read (a face with fewer than 3 corners)")
+    if len(corners) and (corners.min() < 0 or corners.max() >= len(V)):
+        raise MeshReadError(f"{path}: face indices out of range")
+    start = np.cumsum(sizes) - sizes
+    at = np.cumsum(sizes - 2) - (sizes - 2)
+    F = np.empty((int(np.sum(sizes - 2)), 3), dtype=np.int64)
+    tri, quad = sizes == 3, sizes == 4
+    F[at[tri]] = corners[start[tri, None] + np.arange(3)]
+    halves = _split_quads(V, corners[start[quad, None] + np.arange(4)]).reshape(-1, 2, 3)
+    F[at[quad]], F[at[quad] + 1] = halves[:, 0], halves[:, 1]
+    return F
+
+
+def _per_vertex(vertex, ref, values, n):
+    """``values[ref]`` per vertex where every corner of a vertex names the same value, else
+    None (also where a corner names none or a value out of range)."""
+    if values.ndim != 2 or ref.min() < 0 or ref.max() >= len(values):
+        return None
+    out = np.full((n, values.shape[1]), np.nan)
+    out[vertex] = values[ref]
+    if not np.array_equal(out[vertex], values[ref]):
+        return None
+    return np.nan_to_num(out)
+
+
+def _read_plyfile(path):
+    """Positions, faces and per-vertex scalars of a PLY file through plyfile, which reads
+    every element (meshio refuses elements other than vertices and faces)."""
+    from plyfile import PlyData
+
+    try:
+        ply = PlyData.read(path)
+        vertex = ply["vertex"].data
+        V = np.column_stack([vertex[c] for c in "xyz"]).astype(np.float64)
+        face = ply["face"].data
+    except Exception as exc:
+        raise MeshReadError(f"{path}: cannot read ({exc})") from exc
+    lists = [n for n in face.dtype.names if n in ("vertex_indices", "vertex_index")]
+    if not lists:
+        raise MeshReadError(f"{path}: cannot read (faces without vertex_indices)")
+    polys = face[lists[0]]
+    sizes = np.fromiter(map(len, polys), dtype=np.int64, count=len(polys))
+    corners = np.concatenate(polys).astype(np.int64) if len(polys) else np.zeros(0, dtype=np.int64)
+    F = _polygons_to_triangles(path, V, corners, sizes)
+    data = {n: np.asarray(vertex[n], dtype=np.float64) for n in vertex.dtype.names if n not in ("x", "y", "z")}
+    if "texture_u" in data and "texture_v" in data:
+        data["uv"] = np.column_stack([data.pop("texture_u"), data.pop("texture_v")])
+    return V, F, data
 
 
 def _split_quads(P, Q):
@@ -243,6 +361,8 @@ def _write_meshio(path, V, F, uv, data):
     import meshio
 
     point_data = {k: np.asarray(v) for k, v in (data or {}).items()}
+    if Path(path).suffix.lower() == ".ply":
+        point_data = _ply_columns(point_data)
     if uv is not None:
         point_data["texture_u"] = uv[:, 0]
         point_data["texture_v"] = uv[:, 1]
@@ -254,3 +374,18 @@ def _write_meshio(path, V, F, uv, data):
         meshio.write(path, mesh)
     except Exception as exc:
         raise ValueError(f"cannot write {Path(path).suffix} files ({exc})") from exc
+
+
+def _ply_columns(point_data):
+    """Per-vertex arrays of several columns split into one property each, as PLY holds
+    them (meshio's PLY writer drops them): ``normals`` into ``nx``, ``ny``, ``nz``, any
+    other ``name`` into ``name_0``, ``name_1``, ..."""
+    out = {}
+    for name, arr in point_data.items():
+        if arr.ndim == 1 or (arr.ndim == 2 and arr.shape[1] == 1):
+            out[name] = arr.reshape(len(arr))
+            continue
+        flat = arr.reshape(len(arr), -1)
+        names = ("nx", "ny", "nz") if name == "normals" and flat.shape[1] == 3 else [f"{name}_{j}" for j in range(flat.shape[1])]
+        out.update(zip(names, flat.T))
+    return out

@@ -93,7 +93,14 @@ from ..mesh.topology import (
     orient_faces,
     unreferenced_vertices,
 )
-from ..mesh.validate import DegenerateFaceError, MeshError, NonManifoldError, OrientationError, TopologyError
+from ..mesh.validate import (
+    DegenerateFaceError,
+    MeshError,
+    NonManifoldError,
+    OrientationError,
+    TopologyError,
+    UnreferencedVertexError,
+)
 from ..param.crowding import crowded_arcs
 from ..param.disk import disk_conformal_map
 from .min_quality import QUALITY_FLOOR
@@ -265,22 +272,32 @@ def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
 def _repair(V, F, data, sizing, stats):
     """The input made acceptable to the disk map where the validation refused it for
     what can be mended without moving the surface (more than 1e-3 of an edge): faces
-    listed more than once are kept once, faces turned against their neighbours are
-    reversed (:func:`qcremesh.mesh.topology.orient_faces`, the majority's orientation
-    kept), needles merged and caps flipped away
+    listed more than once are kept once, vertices no face uses dropped, faces turned
+    against their neighbours reversed (:func:`qcremesh.mesh.topology.orient_faces`, the
+    majority's orientation kept), needles merged and caps flipped away
     (:func:`qcremesh.geometry.repair.repair_degenerate_faces`). Returns the new vertices,
-    faces, per-vertex data and sizing field (of the vertices kept), counting what was done in
-    ``stats``; None where nothing applies or another defect stands first (non-manifold
-    edges or vertices, unreferenced vertices), which the validation then names."""
+    faces, per-vertex data and sizing field (of the vertices kept) and the index of each
+    vertex kept, counting what was done in ``stats``; None where nothing applies or
+    another defect stands first (non-manifold edges or vertices), which the validation
+    then names."""
     n = len(V)
     repaired = False
+    kept = np.arange(n)
     repeated = duplicate_faces(F)
     if len(repeated):
         F = np.delete(F, repeated, axis=0)
         stats["duplicate_faces"] = len(repeated)
         repaired = True
-    if len(unreferenced_vertices(F, n)) or len(nonmanifold_edges(F)) or len(nonmanifold_vertices(F)):
+    if len(nonmanifold_edges(F)) or len(nonmanifold_vertices(F)):
         return None
+    unused = unreferenced_vertices(F, n)
+    if len(unused):
+        used = np.ones(n, dtype=bool)
+        used[unused] = False
+        kept = np.flatnonzero(used)
+        V, F = V[kept], (np.cumsum(used) - 1)[F]
+        stats["unreferenced_vertices"] = len(unused)
+        repaired = True
     if len(inconsistent_edges(F)):
         try:
             F, turned = orient_faces(F)
@@ -290,12 +307,22 @@ def _repair(V, F, data, sizing, stats):
         repaired = True
     needle, cap = needles_and_caps(V, F)
     if needle.any() or cap.any():
-        V, F, kept = repair_degenerate_faces(V, F)
-        data = {k: np.asarray(v)[kept] for k, v in data.items()} if data else data
-        sizing = sizing[kept] if sizing is not None else None
+        V, F, merged = repair_degenerate_faces(V, F)
+        kept = kept[merged]
         stats.update(repaired_needles=int(needle.sum()), repaired_caps=int(cap.sum()))
         repaired = True
-    return (V, F, data, sizing) if repaired else None
+    if not repaired:
+        return None
+    data = {k: np.asarray(v)[kept] for k, v in data.items()} if data else data
+    sizing = sizing[kept] if sizing is not None and not isinstance(sizing, str) else sizing
+    return V, F, data, sizing, kept
+
+
+def _renumbered(vertices, kept):
+    """``vertices`` as indices into ``kept`` (the vertices a repair kept), -1 where gone."""
+    vertices = np.asarray(vertices, dtype=np.int64)
+    at = np.searchsorted(kept, vertices).clip(0, max(len(kept) - 1, 0))
+    return np.where(kept[at] == vertices, at, -1)
 
 
 def _plan(V, F, bnd, faces, levels, density=None):
@@ -952,11 +979,13 @@ def remesh(
     try:
         try:
             dm = disk_conformal_map(V, F)
-        except (OrientationError, DegenerateFaceError, NonManifoldError) as error:
+        except (OrientationError, DegenerateFaceError, NonManifoldError, UnreferencedVertexError) as error:
             repaired = _repair(V, F, data, sizing, stats)
             if repaired is None:
                 raise error
-            V, F, data, sizing = repaired
+            V, F, data, sizing, kept = repaired
+            if corners is not None:
+                corners = _renumbered(corners, kept)
             dm = disk_conformal_map(V, F)
     except TopologyError:
         sizing = "curvature" if curvature else sizing
