@@ -1,5 +1,6 @@
-"""Synthetic CAD-like surfaces with creases, for the benchmark's creases part: no CAD disk
-is among the meshes of ../shared/data (its one CAD part has cracks at T-junctions).
+"""Synthetic surfaces for the benchmark's creases part and the tests: CAD-like parts (no CAD
+disk is among the meshes of ../shared/data: its one CAD part has cracks at T-junctions),
+and closed surfaces with a thin tail.
 
 Each function returns (V, F): float64 (n, 3) vertices and int64 (m, 3) faces, turned
 outwards, deterministic.
@@ -8,6 +9,7 @@ outwards, deterministic.
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial import Delaunay
 
 
 def _grid_faces(n):
@@ -74,3 +76,44 @@ def mesa():
 
 
 SHAPES = {"open_box": open_box, "cube": cube, "plateau": plateau, "mesa": mesa}
+
+
+def plate_with_two_holes(gap, radius):
+    """A 4 x 2 plate, bent slightly (z = 0.05 sin x), with two round holes of ``radius``
+    side by side at its middle, ``gap`` apart: the Delaunay triangulation of a grid of
+    spacing 0.025 and of 0.025-spaced points on the holes' circles, the faces over the
+    holes left out."""
+    step = 0.025
+    centres = np.array([[2 - radius - gap / 2, 1.0], [2 + radius + gap / 2, 1.0]])
+    x, y = np.meshgrid(np.arange(161) * step, np.arange(81) * step)
+    grid = np.column_stack([x.ravel(), y.ravel()])
+    away = np.all(np.linalg.norm(grid[:, None] - centres[None], axis=2) > radius + step / 2, axis=1)
+    m = int(2 * np.pi * radius / step)
+    t = 2 * np.pi * np.arange(m) / m
+    rims = [c + radius * np.column_stack([np.cos(t), np.sin(t)]) for c in centres]
+    P = np.concatenate([grid[away]] + rims)
+    F = Delaunay(P).simplices
+    F = F[np.all(np.linalg.norm(P[F].mean(1)[:, None] - centres[None], axis=2) > radius, axis=1)]
+    return np.column_stack([P, 0.05 * np.sin(P[:, 0])]), F.astype(np.int64)
+
+
+def ball_with_tail(tail_radius, rings=120, sectors=48):
+    """A closed surface of revolution about the z axis: the unit ball's sphere for z in
+    [-1, 1] and a tail of radius ``tail_radius`` from it to z = 2.5, rounded over its
+    last 0.2; ``rings`` circles of ``sectors`` vertices between the two poles."""
+    z = np.linspace(-1.0, 2.5, rings + 2)[1:-1]
+    r = np.maximum(np.sqrt(np.clip(1 - z**2, 0, None)), tail_radius * np.sqrt(np.clip((2.5 - z) / 0.2, 0, 1)))
+    t = 2 * np.pi * np.arange(sectors) / sectors
+    ring = np.column_stack([np.outer(r, np.cos(t)).ravel(), np.outer(r, np.sin(t)).ravel(), np.repeat(z, sectors)])
+    V = np.vstack([[0.0, 0.0, -1.0], ring, [0.0, 0.0, 2.5]])
+    i, j = np.meshgrid(np.arange(rings - 1), np.arange(sectors), indexing="ij")
+    a, b = 1 + i * sectors + j, 1 + i * sectors + (j + 1) % sectors
+    c, d = b + sectors, a + sectors
+    j = np.arange(sectors)
+    first, last = 1 + j, 1 + (rings - 1) * sectors + j
+    caps = [
+        np.column_stack([np.zeros(sectors, dtype=np.int64), 1 + (j + 1) % sectors, first]),
+        np.column_stack([last, 1 + (rings - 1) * sectors + (j + 1) % sectors, np.full(sectors, len(V) - 1)]),
+    ]
+    sides = [np.column_stack([a.ravel(), b.ravel(), c.ravel()]), np.column_stack([a.ravel(), c.ravel(), d.ravel()])]
+    return V, np.concatenate(caps[:1] + sides + caps[1:]).astype(np.int64)

@@ -227,10 +227,9 @@ def test_remesh_cli_errors(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     # a CAD part saved face by face: cracks, boundary loops whose vertices coincide
     assert err == (
-        f"qcremesh: error: {DATA / 'featuretype.STL'}: cannot cut the surface open into a disk: no path through "
-        "interior vertices joins a boundary loop of 36 edges to the longest one (576 of its 576 boundary "
-        "vertices lie at the same points as others: cracks between faces whose shared corners are not one "
-        "vertex; merge them first)"
+        f"qcremesh: error: {DATA / 'featuretype.STL'}: the remesh of the surface cut open does not weld back "
+        "into its topology (576 of its 576 boundary vertices lie at the same points as others: cracks between "
+        "faces whose shared corners are not one vertex; merge them first)"
     )
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", "2"]) == 1
     assert capsys.readouterr().err.strip() == "qcremesh: error: --faces must be at least 4"

@@ -1,9 +1,10 @@
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components as graph_components
 from scipy.sparse.csgraph import floyd_warshall
 
-from conftest import DATA, grid_disk, holed_disk, shared, sphere_mesh, torus_mesh
+from conftest import DATA, grid_disk, holed_disk, shapes, shared, sphere_mesh, torus_mesh
 from qcremesh.adaptive.sizing import curvature_sizing
 from qcremesh.geometry.distance import point_mesh_distance
 from qcremesh.geometry.operators import doublearea
@@ -108,21 +109,23 @@ def test_cut_along_edges_splits_a_vertex_into_one_copy_per_fan():
     assert len(parent) == len(uv) + len(across) and connected_components(F_cut)[0] == 2
 
 
-def test_cut_to_disk_joins_every_hole_to_the_outer_loop_and_weld_closes_them():
+def test_cut_to_disk_joins_the_loops_into_a_tree_and_weld_closes_them():
     V, F = holed_disk(holes=((0.3, 0.3, 0.12), (0.7, 0.6, 0.15), (0.3, 0.75, 0.1)))
     loops = boundary_loops(F)
     assert len(loops) == 4
     F_cut, parent, cut = cut_to_disk(V, F)
     np.testing.assert_array_equal(parent[F_cut], F)
     check_disk(V[parent], F_cut)  # one loop, Euler characteristic 1
-    # three paths, from each hole to the outer (longest) loop, through interior vertices
-    # of no other: the cut's vertices of degree 1 are on the holes and the outer loop
+    # three paths through interior vertices of no other, each between two loops, which
+    # they join into a tree: the cut's vertices of degree 1 are on the loops
     degree = np.bincount(cut.ravel(), minlength=len(V))
     assert set(np.bincount(degree)[1:].nonzero()[0] + 1) == {1, 2}
-    ends = np.flatnonzero(degree == 1)
-    assert len(ends) == 6
-    assert sorted(int(np.flatnonzero([e in loop for loop in loops])[0]) for e in ends) == [0, 0, 0, 1, 2, 3]
+    assert np.sum(degree == 1) == 6
     assert not np.isin(np.flatnonzero(degree == 2), np.concatenate(loops)).any()
+    joins = [sorted(int(np.flatnonzero([v in loop for loop in loops])[0]) for v in path[[0, -1]]) for path in edge_paths(cut, len(V))]
+    assert len(joins) == 3 and all(a != b for a, b in joins)
+    tree = sp.csr_matrix((np.ones(3), np.array(joins).T), shape=(4, 4))
+    assert graph_components(tree, directed=False)[0] == 1
     # every vertex of a cut is copied: both its ends split a fan of boundary faces
     assert len(parent) == len(V) + len(np.unique(cut))
     X, F_back, kept = weld_cut(V[parent], F_cut, V[cut], 1e-12)
@@ -428,3 +431,57 @@ def test_cut_disk_remeshed_whole_where_its_crowded_pieces_do_not_weld(monkeypatc
     r = remesh(V, F, len(F) // 4)
     assert "crowded_cuts" not in r.stats and len(calls) >= 2
     assert euler_characteristic(r.F) == -1 and len(boundary_loops(r.F)) == 1 and not len(nonmanifold_edges(r.F))
+
+
+def test_cut_to_disk_cuts_across_a_narrow_band_between_holes():
+    """Two holes of radius 0.3, 0.15 apart, 0.7 from the plate's edge: the paths join the
+    loops as a minimum spanning tree, so one runs straight across the band between the
+    holes (joined each to the outer loop, the band stayed whole, a channel of the cut
+    disk that its conformal map crowds)."""
+    V, F = shapes.plate_with_two_holes(0.15, 0.3)
+    loops = boundary_loops(F)
+    F_cut, parent, cut = cut_to_disk(V, F)
+    check_disk(V[parent], F_cut)
+    for path in edge_paths(cut, len(V)):
+        on = [int(np.flatnonzero([v in loop for loop in loops])[0]) for v in path[[0, -1]]]
+        if sorted(on) == [1, 2]:
+            across = np.linalg.norm(np.diff(V[path], axis=0), axis=1).sum()
+            assert 0.15 <= across < 0.18
+            break
+    else:
+        raise AssertionError("no path between the holes")
+
+
+def test_remesh_of_a_plate_with_two_holes_close_together():
+    """The plate above at 2,000 faces (edges about 0.08, half the band's width): min q
+    0.048 with 20 faces below 0.3 and a Hausdorff distance of 2 % when the holes were
+    joined each to the outer loop."""
+    V, F = shapes.plate_with_two_holes(0.15, 0.3)
+    r = remesh(V, F, 2000)
+    assert len(boundary_loops(r.F)) == 3 and euler_characteristic(r.F) == -1
+    m = mesh_quality(r.V, r.F, reference=(V, F))
+    assert m["q_min"] > 0.5 and m["q_mean"] > 0.95 and m["hausdorff"] < 0.002
+
+
+def test_remesh_shortens_the_edges_where_the_weld_of_a_thin_tail_fails(monkeypatch):
+    """A ball with a tail 0.09 across (an output edge is about 0.17 at 1,000 faces),
+    slit open along it to its tip: the tail's strip of the cut disk has no vertex inside,
+    and the weld folds it (chi 4 for 2 in the cow of pymeshlab's samples). Remeshed
+    again with edges half as long around where the weld went wrong, it welds into a
+    closed manifold surface of genus 0; a tail 0.06 across at 1,500 faces does not, and
+    the error says so."""
+    import qcremesh.remeshing.pipeline as pipeline
+
+    V, F = shapes.ball_with_tail(0.045, rings=118)
+    r = remesh(V, F, 1000)
+    assert r.stats["weld_sizing_min_ratio"] == 0.5
+    assert euler_characteristic(r.F) == 2 and not boundary_loops(r.F)
+    assert not len(nonmanifold_edges(r.F)) and not len(nonmanifold_vertices(r.F))
+    assert radius_ratio(r.V, r.F).mean() > 0.94
+    monkeypatch.setattr(pipeline, "WELD_REFINE_RATIOS", ())
+    with pytest.raises(MeshError, match="^the remesh of the surface cut open does not weld back into its topology$"):
+        remesh(V, F, 1000)
+    monkeypatch.undo()
+    V, F = shapes.ball_with_tail(0.03, rings=118)
+    with pytest.raises(MeshError, match="^the remesh of the surface cut open does not weld back into its topology$"):
+        remesh(V, F, 1500)

@@ -14,7 +14,7 @@ from ..geometry.operators import vertex_normals
 from ..geometry.threads import query_workers
 from ..mesh.topology import boundary_loops
 
-__all__ = ["check_sizing", "curvature_sizing", "hole_sizing"]
+__all__ = ["check_sizing", "curvature_sizing", "hole_sizing", "point_sizing"]
 
 
 def check_sizing(sizing, n):
@@ -160,3 +160,34 @@ def hole_sizing(V, F, edge_length, *, min_edges=6, gradation=0.2):
         d = cKDTree(P).query(V[inside])[0]
         s[inside] = np.minimum(s[inside], perimeter / (min_edges * h) + gradation * d / h)
     return np.minimum(s, 1.0)
+
+
+def point_sizing(V, points, edge_length, ratio, *, gradation=0.2):
+    """Relative edge lengths ``ratio`` at the given points, growing by ``gradation`` per
+    edge length away from them:
+
+        s(v) = min(1, ratio + gradation d(v) / h),
+
+    with d(v) the distance from vertex v to the nearest of ``points``.
+
+    Parameters
+    ----------
+    V : (n, 3) float
+    points : (p, 3) float
+    edge_length : float
+        The mean output edge length planned, h.
+    ratio : float
+        In (0, 1].
+    gradation : float
+
+    Returns
+    -------
+    (n,) float
+        In [ratio, 1]; all ones without points.
+    """
+    V = np.asarray(V, dtype=np.float64)
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    if not len(points):
+        return np.ones(len(V))
+    d = cKDTree(points).query(V, workers=query_workers(len(V)))[0]
+    return np.minimum(ratio + gradation * d / float(edge_length), 1.0)

@@ -288,6 +288,12 @@ def _remesh(args, out):
         print(f"not a disk: cut open along {st['cut_edges']} edges, remeshed and welded shut", file=out)
     if "hole_sizing_min_ratio" in st:
         print(f"holes shorter than 6 edges: edges down to {st['hole_sizing_min_ratio']:.2f} around them", file=out)
+    if "weld_sizing_min_ratio" in st:
+        print(
+            "the first remesh did not weld back where the surface is thinner than about two edges: remeshed with "
+            f"edges down to {st['weld_sizing_min_ratio']:.2f} there",
+            file=out,
+        )
     # the faces as remesh kept and oriented them, where it dropped repeated ones or reversed
     # some turned against the others
     kept = np.delete(F, duplicate_faces(F), axis=0) if "duplicate_faces" in st else F

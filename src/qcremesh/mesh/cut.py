@@ -398,31 +398,45 @@ def _prune(cut, n, boundary):
 
 
 def _paths_between_loops(V, F, n, loops):
-    """Shortest edge paths from each loop but the first (the longest) to the first, whose
-    interior vertices are interior vertices of the mesh and on no other path."""
+    """Shortest edge paths joining the loops into a tree, grown from the first (the
+    longest) as Prim's minimum spanning tree is: each the shortest path from a loop not
+    yet joined to one that is, through interior vertices of the mesh on no other path.
+
+    A band of surface between two holes narrower than their distances to the rest is
+    where the shortest path between them runs, so it is cut across; joined each to the
+    longest loop instead, the holes left the band as a channel of the cut disk, which its
+    conformal map crowds (a plate with two holes of radius 0.3 0.15 apart: 20 faces below
+    0.3 at 2,000 faces, Hausdorff distance 2 %).
+    """
     H = half_edges(F)
     weight = np.linalg.norm(V[H[:, 0]] - V[H[:, 1]], axis=1)
     loop_of = np.full(n, -1, dtype=np.int64)
     for k, loop in enumerate(loops):
         loop_of[loop] = k
+    start, stop = loop_of[H[:, 0]], loop_of[H[:, 1]]
     used = np.zeros(n, dtype=bool)
+    joined = np.zeros(len(loops), dtype=bool)
+    joined[0] = True
     paths = []
-    for k in range(1, len(loops)):
-        # Edges from loop k and through free interior vertices to a free vertex of loop 0.
-        start, stop = loop_of[H[:, 0]], loop_of[H[:, 1]]
-        free_from = ((start == -1) | (start == k)) & ~used[H[:, 0]]
-        free_to = ((stop == -1) | (stop == 0)) & ~used[H[:, 1]]
-        ok = free_from & free_to & ~((start == k) & (stop == k))
+    for _ in range(1, len(loops)):
+        # Edges from a loop not joined or a free interior vertex, to a free interior
+        # vertex or a free vertex of a joined loop.
+        interior_from = (start == -1) & ~used[H[:, 0]]
+        from_loop = (start >= 0) & ~joined[start]
+        to_ok = ((stop == -1) | joined[stop]) & ~used[H[:, 1]]
+        ok = (interior_from | from_loop) & to_ok
         G = sp.csr_matrix((weight[ok], (H[ok, 0], H[ok, 1])), shape=(n, n))
-        dist, previous, source = dijkstra(
-            G, directed=True, indices=loops[k], return_predecessors=True, min_only=True
-        )
-        ends = loops[0][~used[loops[0]]]
+        sources = np.concatenate([loops[k] for k in np.flatnonzero(~joined)])
+        dist, previous = dijkstra(G, directed=True, indices=sources, return_predecessors=True, min_only=True)[:2]
+        ends = np.concatenate([loops[k] for k in np.flatnonzero(joined)])
+        ends = ends[~used[ends]]
         if not len(ends) or not np.isfinite(dist[ends]).any():
+            sizes = ", ".join(str(len(loops[k])) for k in np.flatnonzero(~joined))
             raise ValueError(
-                f"no path through interior vertices joins a boundary loop of {len(loops[k])} edges to the longest one"
+                f"no path through interior vertices joins the boundary loops of {sizes} edges to the others"
             )
         path = _walk_back(previous, ends[np.argmin(dist[ends])])
+        joined[loop_of[path[0]]] = True
         used[path] = True
         paths.append(path)
     return paths

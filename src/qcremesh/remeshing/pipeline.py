@@ -60,7 +60,7 @@ from ..adaptive.landmarks import (
     cvt_landmarks,
     interpolate_on_boundary,
 )
-from ..adaptive.sizing import check_sizing, curvature_sizing, hole_sizing
+from ..adaptive.sizing import check_sizing, curvature_sizing, hole_sizing, point_sizing
 from ..beltrami.coefficient import coherent_mu
 from ..beltrami.teichmuller import teichmuller_map
 from ..geometry.creases import check_crease_angle, sharp_edges
@@ -68,6 +68,7 @@ from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import doublearea, vertex_areas
 from ..geometry.quality import corner_radius_ratio_bound, radius_ratio, triangle_angles
 from ..geometry.repair import repair_degenerate_faces
+from ..geometry.threads import query_workers
 from ..mesh.cut import (
     cut_along_edges,
     cut_to_disk,
@@ -138,6 +139,10 @@ NONCONFORMAL_RINGS = 3
 # human_brain) raised the mean radius ratio by 0.01-0.02 (seeds 0-1; 0.005-0.01 at a
 # quarter of human_brain's count, 0.32) and min q and the Hausdorff distance mostly.
 MAX_CELL_SPREAD = 0.28
+
+# Where the remesh of a surface cut open does not weld back, it is done again with the
+# edges around where the weld went wrong shortened to these ratios, in turn.
+WELD_REFINE_RATIOS = (0.5, 0.25)
 
 # A base mesh more than this fraction away from its planned face count gets its interior
 # landmarks drawn again, their number corrected.
@@ -385,10 +390,8 @@ def _weld_levels(levels, join, chi, loops):
     where the output level does not join."""
 
     def joined(X, Fo):
-        border = boundary_edges(Fo)
-        tol = WELD_TOLERANCE * np.linalg.norm(X[border[:, 0]] - X[border[:, 1]], axis=1).mean()
         try:
-            Xw, Fw, kept = join(X, Fo, tol)
+            Xw, Fw, kept = join(X, Fo, _weld_tolerance(X, Fo))
         except ValueError:
             return None
         ok = euler_characteristic(Fw) == chi and len(boundary_loops(Fw)) == loops and not len(nonmanifold_edges(Fw))
@@ -403,6 +406,29 @@ def _weld_levels(levels, join, chi, loops):
     first = max([i + 1 for i, ok in enumerate(intact[:-1]) if not ok], default=0)
     hierarchy = [level[:2] for level in welded[first:]] if intact[-1] else [welded[-1][:2]]
     return welded[-1], hierarchy
+
+
+def _weld_tolerance(X, F):
+    """WELD_TOLERANCE of the mean boundary edge length of (X, F)."""
+    border = boundary_edges(F)
+    return WELD_TOLERANCE * np.linalg.norm(X[border[:, 0]] - X[border[:, 1]], axis=1).mean()
+
+
+def _weld_defects(X, F, segments):
+    """Where the weld of a remeshed cut disk (X, F) along its cut (``segments``, (s, 2,
+    3)) goes wrong: the points of the welded mesh at its non-manifold edges and vertices,
+    and the centroids of the faces it folds onto others (and drops), (k, 3); none where
+    it goes wrong otherwise or not at all."""
+    try:
+        Xw, Fw, _ = weld_cut(X, F, segments, _weld_tolerance(X, F))
+    except ValueError:
+        return np.zeros((0, 3))
+    # each vertex's welded one: itself, or the mean of it and its twins, the nearest
+    merged = cKDTree(Xw).query(X, workers=query_workers(len(X)))[1][F]
+    _, group, size = np.unique(np.sort(merged, axis=1), axis=0, return_inverse=True, return_counts=True)
+    folded = size[group.ravel()] > 1
+    bad = np.union1d(np.unique(nonmanifold_edges(Fw)), nonmanifold_vertices(Fw))
+    return np.concatenate([Xw[bad], X[F[folded]].mean(1)])
 
 
 def _split_pieces(F, label, count):
@@ -439,18 +465,19 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
         raise ValueError(
             "a surface that is not a disk needs the relaxation (relax > 0) and a method other than 'uniform'"
         )
+    # Boundary vertices at the same points as others: cracks between faces whose shared
+    # corners were written apart (a CAD part saved face by face), named where the cut or
+    # the weld fails.
+    border = np.unique(boundary_edges(F))
+    twins = np.unique(_coincident_pairs(V, border))
+    hint = (
+        f" ({len(twins)} of its {len(border)} boundary vertices lie at the same points as others: "
+        "cracks between faces whose shared corners are not one vertex; merge them first)"
+        if len(twins) else ""
+    )
     try:
         F_cut, parent, cut = cut_to_disk(V, F, len(V))
     except ValueError as error:
-        # Boundary vertices at the same points as others: cracks between faces whose
-        # shared corners were written apart (a CAD part saved face by face).
-        border = np.unique(boundary_edges(F))
-        twins = np.unique(_coincident_pairs(V, border))
-        hint = (
-            f" ({len(twins)} of its {len(border)} boundary vertices lie at the same points as others: "
-            "cracks between faces whose shared corners are not one vertex; merge them first)"
-            if len(twins) else ""
-        )
         raise TopologyError(f"cannot cut the surface open into a disk: {error}{hint}") from error
     edge = _output_edge_length(V, F, faces)
     if isinstance(sizing, str):
@@ -488,8 +515,25 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
             **dict(options, cut_crowded=False, creases=None),
         )
         welded = weld(result.levels)
+    for ratio in WELD_REFINE_RATIOS:
+        if welded is not None:
+            break
+        # A part of the surface thinner than about two output edges that the cut runs
+        # along (a cow's tail, slit to its tip) collapses in the weld: shorter edges around
+        # where it did, and once more.
+        where = _weld_defects(*result.levels[-1], V[cut])
+        if not len(where):
+            break
+        local = point_sizing(V, where, edge, ratio)
+        sizing = local if sizing is None else np.minimum(sizing, local)
+        repairs = dict(repairs, weld_sizing_min_ratio=ratio)
+        result = remesh(
+            V[parent], F_cut, faces, sizing=sizing[parent], fixed_boundary=True, corners=cut_corners,
+            data=cut_data, **options,
+        )
+        welded = weld(result.levels)
     if welded is None:
-        raise ValueError("the remesh of the cut surface does not weld back into the input's topology")
+        raise TopologyError(f"the remesh of the surface cut open does not weld back into its topology{hint}")
     # A coarse level can have a face across two copies of a branch point of the cut
     # (the corners of the disk where a handle's two loops meet), which the weld folds
     # away: the levels start above the last such one.
