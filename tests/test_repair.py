@@ -5,9 +5,10 @@ from conftest import grid_disk, split_vertex
 from qcremesh.geometry.operators import doublearea
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
 from qcremesh.geometry.repair import repair_degenerate_faces
-from qcremesh.mesh.topology import boundary_loop, needles_and_caps
+from qcremesh.mesh.topology import boundary_loop, boundary_loops, needles_and_caps, nonmanifold_vertices
 from qcremesh.mesh.validate import (
     DegenerateFaceError,
+    NonManifoldError,
     OrientationError,
     UnreferencedVertexError,
     check_disk,
@@ -120,3 +121,23 @@ def test_remesh_drops_vertices_no_face_uses():
     np.testing.assert_array_equal(r.data["height"], plain.data["height"])
     far = mesh_quality(r.V, r.F, reference=(W, G))
     assert far["hausdorff"] == mesh_quality(r.V, r.F, reference=(V, F))["hausdorff"]
+
+
+def test_remesh_splits_vertices_where_sheets_touch():
+    """Two bent grids touching at one corner (a vertex whose faces form two fans, which
+    the validation refuses; range scans have them): remesh splits it, one copy per grid,
+    and remeshes the two pieces."""
+    uv, G = grid_disk(16, jitter=0.3)
+    V = np.column_stack([uv, 0.2 * np.sin(3 * uv[:, 0])])
+    corner = int(np.argmax(uv.sum(1)))  # (1, 1)
+    W = np.r_[V, V[1:] + V[corner] - V[0]]
+    second = G + len(V) - 1
+    second[G == 0] = corner
+    second[(G != 0)] = G[G != 0] + len(V) - 1
+    F = np.r_[G, second]
+    with pytest.raises(NonManifoldError):
+        check_triangle_mesh(W, F)
+    r = remesh(W, F, 800)
+    assert r.stats["split_vertices"] == 1 and r.stats["pieces"] == 2
+    assert not len(nonmanifold_vertices(r.F)) and len(boundary_loops(r.F)) == 2
+    assert radius_ratio(r.V, r.F).mean() > 0.96

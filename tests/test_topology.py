@@ -51,6 +51,19 @@ def test_nonmanifold_edge_and_vertex():
     assert len(t.nonmanifold_vertices(F)) == 0 and len(t.nonmanifold_edges(F)) == 0
 
 
+def test_split_nonmanifold_vertices_gives_each_fan_a_vertex():
+    """Two grids touching at one corner (a bow tie): the corner gets a copy for each
+    grid, in the order of the vertex it copies; nothing else changes."""
+    uv, G = grid_disk(4)
+    F = np.r_[G, G + 15]  # the second grid's corner 0 is the first's corner 15
+    assert list(t.nonmanifold_vertices(F)) == [15]
+    S, parent = t.split_nonmanifold_vertices(F)
+    assert len(t.nonmanifold_vertices(S)) == 0 and len(parent) == 32
+    np.testing.assert_array_equal(parent[S], F)
+    np.testing.assert_array_equal(parent, np.r_[np.arange(16), 15, np.arange(16, 31)])
+    assert t.connected_components(S)[0] == 2 and t.connected_components(F)[0] == 1
+
+
 def test_orientation_unreferenced_degenerate():
     F = np.array([[0, 1, 2], [1, 2, 3]])
     np.testing.assert_array_equal(t.inconsistent_edges(F), [[1, 2]])

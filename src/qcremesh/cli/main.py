@@ -248,6 +248,8 @@ def _remesh(args, out):
         mended.append(f"{st['duplicate_faces']} faces listed more than once kept once")
     if "unreferenced_vertices" in st:
         mended.append(f"{st['unreferenced_vertices']} vertices no face uses dropped")
+    if "split_vertices" in st:
+        mended.append(f"{st['split_vertices']} vertices where sheets touch split, one per sheet")
     if "reoriented_faces" in st:
         mended.append(f"{st['reoriented_faces']} faces turned against their neighbours reversed")
     if "repaired_needles" in st:

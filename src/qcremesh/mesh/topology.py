@@ -25,6 +25,7 @@ __all__ = [
     "nonmanifold_edges",
     "nonmanifold_vertices",
     "corner_fans",
+    "split_nonmanifold_vertices",
     "inconsistent_edges",
     "orient_faces",
     "unreferenced_vertices",
@@ -352,6 +353,26 @@ def twin_half_edges(F):
     faces and j in the other (row r is in face ``r % m``)."""
     F = np.asarray(F)
     return _edge_pairs(_edge_keys(half_edges(F), int(F.max()) + 1))
+
+
+def split_nonmanifold_vertices(F):
+    """Give each fan of faces around a vertex a vertex of its own (a pinched vertex, where
+    two sheets touch, becomes one vertex per sheet; the surface does not move).
+
+    Returns
+    -------
+    F : (m, 3) int64
+        The faces over the new vertices, numbered in the order of the vertex each copies,
+        its fans in order of their labels.
+    parent : (n',) int64
+        The vertex of the input each new vertex copies (sorted; vertices no face uses
+        have none).
+    """
+    F = np.asarray(F, dtype=np.int64)
+    m = len(F)
+    _, fan = corner_fans(F)
+    keys, corner = np.unique(F.T.ravel() * (3 * m) + fan, return_inverse=True)
+    return corner.reshape(3, m).T.astype(np.int64), keys // (3 * m)
 
 
 def inconsistent_edges(F, twins=None):

@@ -92,6 +92,7 @@ from ..mesh.topology import (
     nonmanifold_edges,
     nonmanifold_vertices,
     orient_faces,
+    split_nonmanifold_vertices,
     unreferenced_vertices,
 )
 from ..mesh.validate import (
@@ -277,14 +278,15 @@ def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
 def _repair(V, F, data, sizing, stats):
     """The input made acceptable to the disk map where the validation refused it for
     what can be mended without moving the surface (more than 1e-3 of an edge): faces
-    listed more than once are kept once, vertices no face uses dropped, faces turned
-    against their neighbours reversed (:func:`qcremesh.mesh.topology.orient_faces`, the
+    listed more than once are kept once, vertices no face uses dropped, vertices where
+    two sheets touch split into one per sheet
+    (:func:`qcremesh.mesh.topology.split_nonmanifold_vertices`), faces turned against
+    their neighbours reversed (:func:`qcremesh.mesh.topology.orient_faces`, the
     majority's orientation kept), needles merged and caps flipped away
     (:func:`qcremesh.geometry.repair.repair_degenerate_faces`). Returns the new vertices,
-    faces, per-vertex data and sizing field (of the vertices kept) and the index of each
-    vertex kept, counting what was done in ``stats``; None where nothing applies or
-    another defect stands first (non-manifold edges or vertices), which the validation
-    then names."""
+    faces, per-vertex data and sizing field (of the vertices kept) and the input vertex
+    each vertex is, counting what was done in ``stats``; None where nothing applies or
+    another defect stands first (non-manifold edges), which the validation then names."""
     n = len(V)
     repaired = False
     kept = np.arange(n)
@@ -293,7 +295,7 @@ def _repair(V, F, data, sizing, stats):
         F = np.delete(F, repeated, axis=0)
         stats["duplicate_faces"] = len(repeated)
         repaired = True
-    if len(nonmanifold_edges(F)) or len(nonmanifold_vertices(F)):
+    if len(nonmanifold_edges(F)):
         return None
     unused = unreferenced_vertices(F, n)
     if len(unused):
@@ -302,6 +304,12 @@ def _repair(V, F, data, sizing, stats):
         kept = np.flatnonzero(used)
         V, F = V[kept], (np.cumsum(used) - 1)[F]
         stats["unreferenced_vertices"] = len(unused)
+        repaired = True
+    pinched = nonmanifold_vertices(F)
+    if len(pinched):
+        F, copied = split_nonmanifold_vertices(F)
+        V, kept = V[copied], kept[copied]
+        stats["split_vertices"] = len(pinched)
         repaired = True
     if len(inconsistent_edges(F)):
         try:
@@ -324,7 +332,8 @@ def _repair(V, F, data, sizing, stats):
 
 
 def _renumbered(vertices, kept):
-    """``vertices`` as indices into ``kept`` (the vertices a repair kept), -1 where gone."""
+    """``vertices`` as indices into ``kept`` (the input vertex of each vertex a repair kept,
+    sorted), the first copy of each; -1 where gone."""
     vertices = np.asarray(vertices, dtype=np.int64)
     at = np.searchsorted(kept, vertices).clip(0, max(len(kept) - 1, 0))
     return np.where(kept[at] == vertices, at, -1)
