@@ -309,8 +309,8 @@ def test_remesh_cli_keeps_creases(tmp_path, capsys):
     # 60 faces: each side's piece would get 12, fewer than a piece may have
     assert main(["remesh", str(path), "-o", str(out), "--creases", "60", "--faces", "60"]) == 0
     assert capsys.readouterr().err.strip() == (
-        "qcremesh: warning: the creases were not kept (the cuts along them leave pieces too small, or the pieces "
-        "did not weld back): the surface was remeshed without them"
+        "qcremesh: warning: the creases were not kept (the cuts along them leave pieces too small, or pieces the "
+        "remesh refuses, or pieces that do not weld back): the surface was remeshed without them"
     )
     for args, message in [
         (["--creases", "0"], "--creases must be between 0 and 180 degrees"),

@@ -282,8 +282,8 @@ def _remesh(args, out):
             print(f"creases: no edge turns by more than {args.creases:g} degrees", file=out)
     if st.get("creases_kept") is False:
         print(
-            "qcremesh: warning: the creases were not kept (the cuts along them leave pieces too small, or the "
-            "pieces did not weld back): the surface was remeshed without them",
+            "qcremesh: warning: the creases were not kept (the cuts along them leave pieces too small, or pieces "
+            "the remesh refuses, or pieces that do not weld back): the surface was remeshed without them",
             file=sys.stderr,
         )
     if "cut_edges" in st:

@@ -654,7 +654,7 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
         pieces, small, members = [], [], []
         for k, (used, local) in enumerate(_split_pieces(F_cut, label, count)):
             members.append(parent[used])
-            piece_data = {name: np.asarray(v)[parent][used] for name, v in data.items()} if data else data
+            piece_data = {key: np.asarray(v)[parent][used] for key, v in data.items()} if data else data
             share = int(round(faces * area[k] / area.sum()))
             pieces.append((V_cut[used], local, share, np.flatnonzero(ends[used]), piece_data,
                            None if cut_density is None else cut_density[used]))
