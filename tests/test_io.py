@@ -93,6 +93,21 @@ def test_ply_with_other_elements(tmp_path, capfd):
     np.testing.assert_array_equal(V[3], [0, 1.5, 0])
     np.testing.assert_array_equal(F, [[0, 1, 2], [0, 2, 3], [1, 4, 2], [0, 2, 3]])
     np.testing.assert_array_equal(data["quality"], [1, 2, 3, 4, 5])
+    # a list of numbers per vertex (as some scanners write) is not per-vertex data
+    listed = tmp_path / "listed.ply"
+    listed.write_text(
+        path.read_text()
+        .replace("property float quality\n", "property float quality\nproperty list uchar int ids\n")
+        .replace("0 0 0 1\n", "0 0 0 1 2 7 8\n")
+        .replace("1 0 0 2\n", "1 0 0 2 0\n")
+        .replace("1 1 0 3\n", "1 1 0 3 1 9\n")
+        .replace("0 1.5 0 4\n", "0 1.5 0 4 0\n")
+        .replace("2 0.5 0 5\n", "2 0.5 0 5 0\n")
+    )
+    V2, F2, data = read_mesh(listed, return_data=True)
+    np.testing.assert_array_equal(V2, V)
+    np.testing.assert_array_equal(F2, F)
+    assert sorted(data) == ["quality"]
     broken = tmp_path / "broken.ply"
     broken.write_text(path.read_text().replace("4 0 1 2 3 0", "5 0 1 2 3 4 0"))
     with pytest.raises(MeshReadError, match="not a triangle mesh \\(has polygon cells\\)"):

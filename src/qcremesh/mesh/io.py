@@ -15,6 +15,7 @@ from __future__ import annotations
 import io
 import os
 import tempfile
+import warnings
 from contextlib import contextmanager, redirect_stderr, redirect_stdout
 from pathlib import Path
 
@@ -197,7 +198,9 @@ def _read_plyfile(path):
     from plyfile import PlyData
 
     try:
-        ply = PlyData.read(path)
+        with warnings.catch_warnings():  # numpy's, on an empty list in an ASCII file
+            warnings.simplefilter("ignore")
+            ply = PlyData.read(path)
         vertex = ply["vertex"].data
         V = np.column_stack([vertex[c] for c in "xyz"]).astype(np.float64)
         face = ply["face"].data
@@ -210,7 +213,12 @@ def _read_plyfile(path):
     sizes = np.fromiter(map(len, polys), dtype=np.int64, count=len(polys))
     corners = np.concatenate(polys).astype(np.int64) if len(polys) else np.zeros(0, dtype=np.int64)
     F = _polygons_to_triangles(path, V, corners, sizes)
-    data = {n: np.asarray(vertex[n], dtype=np.float64) for n in vertex.dtype.names if n not in ("x", "y", "z")}
+    # the vertices' numbers (lists, as some scanners write, are left out)
+    data = {
+        n: np.asarray(vertex[n], dtype=np.float64)
+        for n in vertex.dtype.names
+        if n not in ("x", "y", "z") and vertex.dtype[n] != object
+    }
     if "texture_u" in data and "texture_v" in data:
         data["uv"] = np.column_stack([data.pop("texture_u"), data.pop("texture_v")])
     return V, F, data
