@@ -386,3 +386,33 @@ def test_boundary_valence_flips_give_border_vertices_three_faces():
     assert radius_ratio(X, G).min() > radius_ratio(X, F).min()
     same, none = flip_for_boundary_valence(uv, F, X, np.zeros(len(uv), dtype=bool))
     assert none == 0 and np.array_equal(same, F)
+
+
+def test_area_samples_are_even_by_area_on_every_face():
+    """A fan of 400 slivers around a cone's apex (each 1 long, 0.016 wide at its far end)
+    and one large triangle: the points split by area, sum to it, lie on their faces, and
+    fill each face evenly (a quarter in each of its four midpoint triangles, to 2 %), not
+    at the same barycentric coordinates in every sliver."""
+    from qcremesh.adaptive.samples import area_samples
+
+    k = 400
+    t = 2 * np.pi * np.arange(k) / k
+    V = np.vstack([[0.0, 0.0], np.column_stack([np.cos(t), np.sin(t)]), [[3.0, 0.0], [5.0, 0.0], [3.0, 2.0]]])
+    F = np.vstack([np.column_stack([np.zeros(k, int), 1 + np.arange(k), 1 + (np.arange(k) + 1) % k]), [[k + 1, k + 2, k + 3]]])
+    area = doublearea(V, F) / 2
+    (P,), weight = area_samples(F, area, 20000, [V])
+    np.testing.assert_allclose(weight.sum(), area.sum())
+    big = P[:, 0] > 2.5  # the fan lies within the unit circle
+    assert abs(big.sum() - 20000 * area[-1] / area.sum()) < 2
+    # in the large triangle: a quarter in each midpoint triangle
+    corners = V[F[-1]]
+    b = np.linalg.solve(np.column_stack([corners[1] - corners[0], corners[2] - corners[0]]), (P[big] - corners[0]).T).T
+    b = np.column_stack([1 - b.sum(1), b])
+    assert (b > -1e-12).all()
+    quarters = np.array([(b[:, 0] > 0.5).mean(), (b[:, 1] > 0.5).mean(), (b[:, 2] > 0.5).mean()])
+    np.testing.assert_allclose(quarters, 0.25, atol=0.02)
+    # in the fan: radii even by area (the share within radius r is r^2), no rings
+    r = np.linalg.norm(P[~big], axis=1)
+    for x in (0.25, 0.5, 0.75):
+        assert abs((r < x).mean() - x**2) < 0.02
+    assert len(np.unique(np.round(r, 6))) > 0.9 * len(r)

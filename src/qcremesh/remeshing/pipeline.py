@@ -60,6 +60,7 @@ from ..adaptive.landmarks import (
     cvt_landmarks,
     interpolate_on_boundary,
 )
+from ..adaptive.samples import area_samples
 from ..adaptive.sizing import check_sizing, curvature_sizing, hole_sizing, point_sizing
 from ..beltrami.coefficient import coherent_mu
 from ..beltrami.teichmuller import teichmuller_map
@@ -85,6 +86,7 @@ from ..mesh.topology import (
     boundary_loops,
     connected_components,
     duplicate_faces,
+    edges,
     euler_characteristic,
     genus,
     inconsistent_edges,
@@ -188,6 +190,12 @@ WELD_TOLERANCE = 1e-7
 # The CVT of the landmarks samples the disk at the parameterization's vertices, subdivided
 # until there are at least this many per landmark.
 CVT_SAMPLES_PER_LANDMARK = 20
+
+# Where the 99th percentile of the subdivided samples' edges is longer than this fraction
+# of the base mesh's planned edge, the samples are spread over the faces by area instead
+# (adaptive.samples.area_samples). The disk meshes of ../shared/data at their face count
+# and half of it: 0.16-0.65; a cone over a fan of 400 slivers: 1.06 and more.
+SAMPLE_EDGE_RATIO = 0.8
 
 
 @dataclass
@@ -1150,7 +1158,20 @@ def remesh(
                 both, samples_F = upsample(np.column_stack(fields), samples_F, 1)
                 samples_V, samples_uv = both[:, :3], both[:, 3:5]
                 samples_density = None if density is None else both[:, 5]
-            surface_area = vertex_areas(samples_V, samples_F, len(samples_uv))
+            E = edges(samples_F)
+            long = np.percentile(np.linalg.norm(samples_V[E[:, 0]] - samples_V[E[:, 1]], axis=1), 99)
+            if long > SAMPLE_EDGE_RATIO * _output_edge_length(V, F, base_faces, density):
+                # A fan of slivers, subdivided, samples the surface along their long edges
+                # only (in rings around the fan's centre, on which the landmarks then sit):
+                # the samples are spread over each input face by area instead.
+                fields = [dm.uv, V] + ([] if density is None else [density])
+                values, surface_area = area_samples(
+                    F, doublearea(V, F) / 2, CVT_SAMPLES_PER_LANDMARK * (ni + nb), fields
+                )
+                samples_uv, samples_V = values[0], values[1]
+                samples_density = None if density is None else values[2]
+            else:
+                surface_area = vertex_areas(samples_V, samples_F, len(samples_uv))
             # The measure to spread and, as a CVT places its points with the square root
             # of its weight per unit area, the weight.
             cvt_mass, cvt_weight = surface_area, None
