@@ -110,7 +110,7 @@ def test_ply_with_other_elements(tmp_path, capfd):
     assert sorted(data) == ["quality"]
     broken = tmp_path / "broken.ply"
     broken.write_text(path.read_text().replace("4 0 1 2 3 0", "5 0 1 2 3 4 0"))
-    with pytest.raises(MeshReadError, match="not a triangle mesh \\(has polygon cells\\)"):
+    with pytest.raises(MeshReadError, match="a face of 5 corners is not convex \\(or not flat\\): triangulate"):
         read_mesh(broken)
 
 
@@ -176,13 +176,52 @@ def test_quads_are_split_along_their_shorter_diagonal(tmp_path):
     np.testing.assert_array_equal(F, [[0, 1, 2], [0, 2, 3], [4, 5, 7], [5, 6, 7]])
 
 
+def test_convex_polygons_become_fans_in_every_format(tmp_path):
+    """A convex pentagon and a hexagon (OBJ, OFF, and VTK through meshio's polygon cells)
+    become the fans from their first corners, in order; OFF read here also takes what
+    meshio refused: counts on the header's line, comments, colours after a face, COFF."""
+    P = np.array([[0, 0, 0], [1, 0, 0], [1.5, 1, 0], [0.5, 1.5, 0], [-0.5, 1, 0], [3, 0, 0], [4, 0, 0], [4.5, 1, 0], [4, 2, 0], [3, 2, 0], [2.5, 1, 0]], float)
+    fans = [[0, 1, 2], [0, 2, 3], [0, 3, 4], [5, 6, 7], [5, 7, 8], [5, 8, 9], [5, 9, 10]]
+    obj = tmp_path / "p.obj"
+    obj.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in P) + "f 1 2 3 4 5\nf 6 7 8 9 10 11\n")
+    off = tmp_path / "p.off"
+    off.write_text(
+        "COFF 11 2 0 # counts here\n" + "".join(f"{x} {y} {z} 255 0 0 255\n" for x, y, z in P)
+        + "5 0 1 2 3 4 0.5 0.5 0.5\n# a hexagon\n6 5 6 7 8 9 10\n"
+    )
+    import meshio
+
+    vtk = tmp_path / "p.vtk"
+    meshio.write(vtk, meshio.Mesh(P, [("polygon", np.array([[0, 1, 2, 3, 4]])), ("polygon", np.array([[5, 6, 7, 8, 9, 10]]))]))
+    for path in (obj, off, vtk):
+        V, F = read_mesh(path)
+        np.testing.assert_array_equal(V, P)
+        np.testing.assert_array_equal(F, fans)
+
+
+def test_off_reads_as_meshio_did():
+    for name in ("venus.off", "foot.off", "face-YH.off"):
+        path = SHARED / name
+        if not path.is_file():
+            pytest.skip("needs ../shared/data")
+        import meshio
+
+        m = meshio.read(path)
+        V, F = read_mesh(path)
+        np.testing.assert_array_equal(V, m.points)
+        np.testing.assert_array_equal(F, m.cells[0].data)
+
+
 def test_read_errors(tmp_path):
     with pytest.raises(MeshReadError, match="no such file"):
         read_mesh(tmp_path / "missing.obj")
-    pentagon = tmp_path / "pentagon.obj"
-    pentagon.write_text("v 0 0 0\nv 1 0 0\nv 1.5 1 0\nv 0.5 1.5 0\nv -0.5 1 0\nf 1 2 3 4 5\n")
-    with pytest.raises(MeshReadError, match="not a triangle mesh \\(has polygon cells\\)"):
-        read_mesh(pentagon)
+    star = tmp_path / "star.obj"  # a pentagram's five points, in the order that crosses
+    star.write_text("v 0 0 0\nv 1 0 0\nv 1.5 1 0\nv 0.5 1.5 0\nv -0.5 1 0\nf 1 3 5 2 4\n")
+    with pytest.raises(MeshReadError, match="^" + str(star) + ": a face of 5 corners is not convex"):
+        read_mesh(star)
+    (tmp_path / "half.off").write_text("OFF\n3 1 0\n0 0 0\n1 0 0\n")
+    with pytest.raises(MeshReadError, match="fewer vertices or faces than its header says"):
+        read_mesh(tmp_path / "half.off")
     junk = tmp_path / "junk.ply"
     junk.write_text("not a ply file\n")
     with pytest.raises(MeshReadError, match="cannot read"):

@@ -3,11 +3,13 @@
 OBJ is read and written here: meshio's reader refuses texture coordinates with seams
 (``f a/b`` where ``b`` is not ``a``, as every UV-mapped export has) and negative indices,
 and written here it carries texture coordinates as ``f a/a b/b c/c`` with bytes that do
-not depend on the time of day. PLY is read through meshio and, where meshio refuses a file
-(elements other than vertices and faces, as a range map's ``camera``), through plyfile.
-MATLAB ``.mat`` files with variables ``v`` and ``f`` (1-based), as distributed with the
-public quasi-conformal codes, are read through :func:`scipy.io.loadmat`. Every other
-format goes through meshio (OFF, STL, VTK/VTU, ...).
+not depend on the time of day. OFF is read here too (meshio's reader takes triangles
+only, and no COFF nor counts on the header's line). PLY is read through meshio and, where
+meshio refuses a file (elements other than vertices and faces, as a range map's
+``camera``), through plyfile. MATLAB ``.mat`` files with variables ``v`` and ``f``
+(1-based), as distributed with the public quasi-conformal codes, are read through
+:func:`scipy.io.loadmat`. Every other format goes through meshio (STL, VTK/VTU, ...).
+Quads are split along their shorter diagonal, larger convex polygons into fans.
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ class MeshReadError(ValueError):
 
 def read_mesh(path, *, return_data=False):
     """Read a triangle mesh; quads are split into two triangles along their shorter
-    diagonal.
+    diagonal, larger convex polygons into the fan from their first corner.
 
     Parameters
     ----------
@@ -52,8 +54,8 @@ def read_mesh(path, *, return_data=False):
     Raises
     ------
     MeshReadError
-        The file is missing, unreadable, or holds no triangles (or holds polygons other
-        than triangles and quads).
+        The file is missing, unreadable, or holds no triangles (or holds polygons that
+        are not convex, or cells other than polygons).
     """
     path = Path(path)
     if not path.is_file():
@@ -63,6 +65,8 @@ def read_mesh(path, *, return_data=False):
         V, F, data = _read_mat(path)
     elif suffix == ".obj":
         V, F, data = _read_obj(path)
+    elif suffix == ".off":
+        V, F, data = _read_off(path)
     else:
         try:
             V, F, data = _read_meshio(path)
@@ -95,11 +99,13 @@ def _read_meshio(path):
             m = meshio.read(path)
     except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
         raise MeshReadError(f"{path}: cannot read ({exc})") from exc
-    tri = [c.data for c in m.cells if c.type == "triangle"]
-    tri += [_split_quads(m.points, c.data) for c in m.cells if c.type == "quad"]
-    _check_cell_types(path, {c.type for c in m.cells} - {"triangle", "quad", "vertex", "line"})
-    if not tri:
+    other = {c.type for c in m.cells} - {"triangle", "quad", "polygon", "vertex", "line"}
+    if other:
+        raise MeshReadError(f"{path}: not a triangle mesh (has {', '.join(sorted(other))} cells)")
+    blocks = [np.asarray(c.data, dtype=np.int64) for c in m.cells if c.type in ("triangle", "quad", "polygon")]
+    if not blocks:
         raise MeshReadError(f"{path}: no triangles in the file")
+    tri = [_polygons_to_triangles(path, m.points, b.ravel(), np.full(len(b), b.shape[1])) for b in blocks]
     data = {}
     for name, arr in m.point_data.items():
         arr = np.asarray(arr)
@@ -110,11 +116,6 @@ def _read_meshio(path):
     if "obj:vt" in data:
         data["uv"] = np.asarray(data.pop("obj:vt"))[:, :2]
     return m.points, np.concatenate(tri), data
-
-
-def _check_cell_types(path, other):
-    if other:
-        raise MeshReadError(f"{path}: not a triangle mesh (has {', '.join(sorted(other))} cells)")
 
 
 def _read_obj(path):
@@ -163,9 +164,8 @@ def _read_obj(path):
 
 def _polygons_to_triangles(path, V, corners, sizes):
     """Triangles of polygons given by their corners in a row and their sizes, in order:
-    triangles as they are, quads split along their shorter diagonal; larger polygons are
-    refused."""
-    _check_cell_types(path, {"polygon"} if np.any(sizes > 4) else set())
+    triangles as they are, quads split along their shorter diagonal, larger convex
+    polygons into the fan from their first corner (:func:`_fans`)."""
     if np.any(sizes < 3):
         raise MeshReadError(f"{path}: cannot read (a face with fewer than 3 corners)")
     if len(corners) and (corners.min() < 0 or corners.max() >= len(V)):
@@ -173,11 +173,55 @@ def _polygons_to_triangles(path, V, corners, sizes):
     start = np.cumsum(sizes) - sizes
     at = np.cumsum(sizes - 2) - (sizes - 2)
     F = np.empty((int(np.sum(sizes - 2)), 3), dtype=np.int64)
-    tri, quad = sizes == 3, sizes == 4
-    F[at[tri]] = corners[start[tri, None] + np.arange(3)]
-    halves = _split_quads(V, corners[start[quad, None] + np.arange(4)]).reshape(-1, 2, 3)
-    F[at[quad]], F[at[quad] + 1] = halves[:, 0], halves[:, 1]
+    for n in np.unique(sizes):
+        these = sizes == n
+        P = corners[start[these, None] + np.arange(n)]
+        T = P if n == 3 else _split_quads(V, P) if n == 4 else _fans(path, V, P)
+        F[(at[these, None] + np.arange(n - 2)).ravel()] = T
     return F
+
+
+def _fans(path, V, P):
+    """The fans of polygons (k, n) from their first corners, (k (n - 2), 3), polygon by
+    polygon; refused unless every polygon is convex (each fan triangle turns as the
+    polygon does, about its Newell normal)."""
+    X = np.asarray(V, dtype=np.float64)[P]
+    normal = np.cross(X, np.roll(X, -1, axis=1)).sum(1)
+    a, b, c = X[:, :1], X[:, 1:-1], X[:, 2:]
+    turn = np.einsum("kjd,kd->kj", np.cross(b - a, c - a), normal)
+    if np.any(turn <= 0):
+        raise MeshReadError(
+            f"{path}: a face of {P.shape[1]} corners is not convex (or not flat): triangulate the mesh first"
+        )
+    n = P.shape[1]
+    fan = np.stack([np.broadcast_to(P[:, :1], (len(P), n - 2)), P[:, 1:-1], P[:, 2:]], axis=2)
+    return fan.reshape(-1, 3)
+
+
+def _read_off(path):
+    """Positions and faces of an OFF file (also COFF, NOFF, ...: the numbers after a
+    vertex's first three, and after a face's corners, are left out; comments after #)."""
+    try:
+        rows = [line.split("#", 1)[0].split() for line in path.read_text(errors="replace").splitlines()]
+    except OSError as exc:
+        raise MeshReadError(f"{path}: cannot read ({exc})") from exc
+    rows = [r for r in rows if r]
+    if not rows or not rows[0][0].endswith("OFF"):
+        raise MeshReadError(f"{path}: cannot read (no OFF header)")
+    counts, at = (rows[0][1:], 1) if len(rows[0]) > 1 else (rows[1] if len(rows) > 1 else [], 2)
+    try:
+        nv, nf = int(counts[0]), int(counts[1])
+        V = np.array([r[:3] for r in rows[at : at + nv]], dtype=np.float64)
+        faces = rows[at + nv : at + nv + nf]
+        sizes = np.array([int(r[0]) for r in faces], dtype=np.int64)
+        corners = np.array([c for r, k in zip(faces, sizes) for c in r[1 : 1 + k]], dtype=np.int64)
+    except (ValueError, IndexError) as exc:
+        raise MeshReadError(f"{path}: cannot read ({exc})") from exc
+    if V.shape != (nv, 3) or len(sizes) != nf or len(corners) != sizes.sum():
+        raise MeshReadError(f"{path}: cannot read (fewer vertices or faces than its header says)")
+    if not nf:
+        raise MeshReadError(f"{path}: no triangles in the file")
+    return V, _polygons_to_triangles(path, V, corners, sizes), {}
 
 
 def _per_vertex(vertex, ref, values, n):
