@@ -125,7 +125,7 @@ def _read_obj(path):
     coordinate and a normal; negative indices count back from the last one read. Texture
     coordinates (data ``uv``) and normals (``normals``) are kept where every corner of a
     vertex names the same value; a vertex with several (a seam of the texture) keeps the
-    positions and faces but not that data. Faces of more than four corners are refused.
+    positions and faces but not that data.
     """
     try:
         lines = path.read_text(errors="replace").splitlines()
