@@ -290,6 +290,12 @@ def _remesh(args, out):
         print(f"not a disk: cut open along {st['cut_edges']} edges, remeshed and welded shut", file=out)
     if "hole_sizing_min_ratio" in st:
         print(f"holes shorter than 6 edges: edges down to {st['hole_sizing_min_ratio']:.2f} around them", file=out)
+    if st.get("cut_trimmed"):
+        print(
+            "the cut was shortened where the remesh did not weld back: the part of the surface there, thinner "
+            "than about two edges, comes out coarse",
+            file=out,
+        )
     if "weld_sizing_min_ratio" in st:
         print(
             "the first remesh did not weld back where the surface is thinner than about two edges: remeshed with "

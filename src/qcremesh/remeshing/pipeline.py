@@ -45,6 +45,8 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components as graph_components
 from scipy.spatial import cKDTree
 
 from ..adaptive.basemesh import (
@@ -146,6 +148,10 @@ MAX_CELL_SPREAD = 0.28
 # Where the remesh of a surface cut open does not weld back, it is done again with the
 # edges around where the weld went wrong shortened to these ratios, in turn.
 WELD_REFINE_RATIOS = (0.5, 0.25)
+
+# Where it still does not, the cut's edges within this many output edges of where the weld
+# went wrong are left out, if what is left still opens the surface into a disk.
+TRIM_REACH = 3.0
 
 # A base mesh more than this fraction away from its planned face count gets its interior
 # landmarks drawn again, their number corrected.
@@ -448,6 +454,30 @@ def _weld_defects(X, F, segments):
     return np.concatenate([Xw[bad], X[F[folded]].mean(1)])
 
 
+def _trimmed_cut(V, F, cut, where, reach):
+    """The cut (edges (k, 2) of the surface (V, F)) without its edges within ``reach`` of
+    the points ``where``, the longest connected part of what is left: (F_cut, parent,
+    edges) as :func:`qcremesh.mesh.cut.cut_to_disk` gives them; None where nothing is
+    near or left, or what is left does not open the surface into a disk."""
+    if not len(where) or not len(cut):
+        return None
+    near = cKDTree(where).query(V[cut].mean(1))[0] < reach
+    rest = cut[~near]
+    if not near.any() or not len(rest):
+        return None
+    graph = sp.coo_matrix((np.ones(len(rest)), (rest[:, 0], rest[:, 1])), shape=(len(V), len(V)))
+    part = graph_components(graph, directed=False)[1][rest[:, 0]]
+    length = np.bincount(part, np.linalg.norm(V[rest[:, 0]] - V[rest[:, 1]], axis=1))
+    kept = rest[part == np.argmax(length)]
+    try:
+        F_cut, parent = cut_along_edges(F, kept, len(V))
+    except ValueError:
+        return None
+    if len(boundary_loops(F_cut)) != 1 or euler_characteristic(F_cut) != 1:
+        return None
+    return F_cut, parent, kept
+
+
 def _split_pieces(F, label, count):
     """Each piece's vertices and faces: for piece k (``label`` (m,) the piece of each face,
     0..count-1), the vertices its faces use (sorted) and its faces renumbered over them,
@@ -505,33 +535,30 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     if holes.min() < 1:
         sizing = holes if sizing is None else np.minimum(sizing, holes)
         repairs = dict(repairs, hole_sizing_min_ratio=float(holes.min()))
-    cut_data = {k: np.asarray(v)[parent] for k, v in data.items()} if data else data
-    cut_sizing = None if sizing is None else np.asarray(sizing)[parent]
-    # Corners: where the cut ends, branches or meets the boundary.
-    degree = np.bincount(cut.ravel(), minlength=len(V))
+    chi, loops = euler_characteristic(F), len(boundary_loops(F))
     on_boundary = np.zeros(len(V), dtype=bool)
     on_boundary[boundary_edges(F).ravel()] = True
-    corner = (degree > 0) & ((degree != 2) | on_boundary)
-    cut_corners = np.flatnonzero(corner[parent] & np.isin(np.arange(len(parent)), boundary_edges(F_cut)))
-    result = remesh(
-        V[parent], F_cut, faces, sizing=cut_sizing, fixed_boundary=True, corners=cut_corners, data=cut_data,
-        **options,
-    )
-    chi, loops = euler_characteristic(F), len(boundary_loops(F))
 
-    def weld(levels):
-        """The levels welded shut (:func:`_weld_levels`), or None."""
-        return _weld_levels(levels, lambda X, Fo, tol: weld_cut(X, Fo, V[cut], tol), chi, loops)
+    def attempt(F_cut, parent, cut, sizing, **changed):
+        """The disk F_cut (the surface cut along ``cut``) remeshed and welded shut:
+        (result, the welded levels of :func:`_weld_levels` or None)."""
+        # Corners: where the cut ends, branches or meets the boundary.
+        degree = np.bincount(cut.ravel(), minlength=len(V))
+        corner = (degree > 0) & ((degree != 2) | on_boundary)
+        cut_corners = np.flatnonzero(corner[parent] & np.isin(np.arange(len(parent)), boundary_edges(F_cut)))
+        result = remesh(
+            V[parent], F_cut, faces, sizing=None if sizing is None else np.asarray(sizing)[parent],
+            fixed_boundary=True, corners=cut_corners,
+            data={k: np.asarray(v)[parent] for k, v in data.items()} if data else data, **dict(options, **changed),
+        )
+        segments = V[cut]
+        return result, _weld_levels(result.levels, lambda X, Fo, tol: weld_cut(X, Fo, segments, tol), chi, loops)
 
-    welded = weld(result.levels)
+    result, welded = attempt(F_cut, parent, cut, sizing)
     if welded is None and ("crowded_cuts" in result.stats or "crease_cuts" in result.stats):
         # The cut disk cut again where its map crowds or along its creases, whose seams
         # did not weld: once more without that.
-        result = remesh(
-            V[parent], F_cut, faces, sizing=cut_sizing, fixed_boundary=True, corners=cut_corners, data=cut_data,
-            **dict(options, cut_crowded=False, creases=None),
-        )
-        welded = weld(result.levels)
+        result, welded = attempt(F_cut, parent, cut, sizing, cut_crowded=False, creases=None)
     for ratio in WELD_REFINE_RATIOS:
         if welded is not None:
             break
@@ -544,11 +571,15 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
         local = point_sizing(V, where, edge, ratio)
         sizing = local if sizing is None else np.minimum(sizing, local)
         repairs = dict(repairs, weld_sizing_min_ratio=ratio)
-        result = remesh(
-            V[parent], F_cut, faces, sizing=sizing[parent], fixed_boundary=True, corners=cut_corners,
-            data=cut_data, **options,
-        )
-        welded = weld(result.levels)
+        result, welded = attempt(F_cut, parent, cut, sizing)
+    if welded is None:
+        # Still not: the cut without its part there (the slit then stops short of the
+        # tail, which comes out coarse), where what is left still opens the surface.
+        trimmed = _trimmed_cut(V, F, cut, _weld_defects(*result.levels[-1], V[cut]), TRIM_REACH * edge)
+        if trimmed is not None:
+            F_cut, parent, cut = trimmed
+            repairs = dict(repairs, cut_trimmed=True)
+            result, welded = attempt(F_cut, parent, cut, sizing)
     if welded is None:
         raise TopologyError(f"the remesh of the surface cut open does not weld back into its topology{hint}")
     # A coarse level can have a face across two copies of a branch point of the cut
