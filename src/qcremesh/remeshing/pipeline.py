@@ -504,7 +504,10 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     boundary whose corners include the copies of the cut's ends and branch points (so that
     the two sides of each cut get the same vertices), with edges shortened around the
     holes shorter than a few edges (:func:`qcremesh.adaptive.sizing.hole_sizing`), and
-    welded shut along the cut (:func:`qcremesh.mesh.cut.weld_cut`). ``levels`` are welded
+    welded shut along the cut (:func:`qcremesh.mesh.cut.weld_cut`). Where the weld fails,
+    the remesh is done again: without cutting the disk where its map crowds, with edges
+    shortened around where the weld went wrong (WELD_REFINE_RATIOS), and last with the
+    cut trimmed there (:func:`_trimmed_cut`). ``levels`` are welded
     each; ``uv``, ``disk_levels`` and ``mu`` stay those of the cut disk; ``repairs``, the
     stats of what :func:`_repair` mended first (the faces' orientation, which the cut
     needs to tell the two sides of a path), join the result's."""
