@@ -360,3 +360,23 @@ def test_remesh_cli_whole_keeps_a_crowded_disk_in_one_piece(tmp_path, capsys):
     captured = capsys.readouterr()
     assert "cut into" not in captured.out
     assert "qcremesh: warning: the disk map crowds 51 % of the boundary vertices to its narrowest arc" in captured.err
+
+
+def test_remesh_cli_says_where_the_weld_failed(tmp_path, capsys):
+    """A ball with a tail 0.06 across at 1,500 faces: the weld of its slit fails, with
+    shorter edges too, and the slit is trimmed; the summary says each, in that order."""
+    V, F = shapes.ball_with_tail(0.03, rings=118)
+    path = tmp_path / "tail.obj"
+    write_mesh(path, V, F)
+    assert main(["remesh", str(path), "-o", str(tmp_path / "r.ply"), "--faces", "1500"]) == 0
+    out = capsys.readouterr().out
+    weld = out.index(
+        "the first remesh did not weld back where the surface is thinner than about two edges: remeshed with "
+        "edges down to 0.25 there"
+    )
+    trim = out.index(
+        "the cut was shortened where the remesh did not weld back: the part of the surface there, thinner than "
+        "about two edges, comes out coarse"
+    )
+    assert weld < trim
+    assert "sizing (where the weld failed): edges planned down to" in out

@@ -290,16 +290,16 @@ def _remesh(args, out):
         print(f"not a disk: cut open along {st['cut_edges']} edges, remeshed and welded shut", file=out)
     if "hole_sizing_min_ratio" in st:
         print(f"holes shorter than 6 edges: edges down to {st['hole_sizing_min_ratio']:.2f} around them", file=out)
-    if st.get("cut_trimmed"):
-        print(
-            "the cut was shortened where the remesh did not weld back: the part of the surface there, thinner "
-            "than about two edges, comes out coarse",
-            file=out,
-        )
     if "weld_sizing_min_ratio" in st:
         print(
             "the first remesh did not weld back where the surface is thinner than about two edges: remeshed with "
             f"edges down to {st['weld_sizing_min_ratio']:.2f} there",
+            file=out,
+        )
+    if st.get("cut_trimmed"):
+        print(
+            "the cut was shortened where the remesh did not weld back: the part of the surface there, thinner "
+            "than about two edges, comes out coarse",
             file=out,
         )
     # the faces as remesh kept and oriented them, where it dropped repeated ones or reversed
@@ -322,7 +322,10 @@ def _remesh(args, out):
             file=sys.stderr,
         )
     if "sizing_min_ratio" in st:
-        given = args.sizing if args.sizing is not None else "around the holes"
+        given = args.sizing or ", ".join(
+            where for key, where in (("hole_sizing_min_ratio", "around the holes"),
+                                     ("weld_sizing_min_ratio", "where the weld failed")) if key in st
+        ) or "planned"
         print(f"sizing ({given}): edges planned down to {st['sizing_min_ratio']:.2f} of the longest", file=out)
     if "teichmuller_k" in st:
         print(
