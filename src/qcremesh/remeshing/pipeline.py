@@ -88,8 +88,8 @@ from ..mesh.topology import (
     boundary_loops,
     connected_components,
     duplicate_faces,
-    edges,
     euler_characteristic,
+    face_edge_lengths,
     genus,
     inconsistent_edges,
     needles_and_caps,
@@ -197,7 +197,7 @@ WELD_TOLERANCE = 1e-7
 # until there are at least this many per landmark.
 CVT_SAMPLES_PER_LANDMARK = 20
 
-# Where the 99th percentile of the subdivided samples' edges is longer than this fraction
+# Where the 99th percentile of the subdivided samples' face sides is longer than this fraction
 # of the base mesh's planned edge, the samples are spread over the faces by area instead
 # (adaptive.samples.area_samples). The disk meshes of ../shared/data at their face count
 # and half of it: 0.16-0.65; a cone over a fan of 400 slivers: 1.06 and more.
@@ -1186,14 +1186,17 @@ def remesh(
                 stats["corner_quality_bound"] = float(corner_radius_ratio_bound(angle).min())
             samples_uv, samples_V, samples_F = dm.uv, V, F
             samples_density = density
+            halvings = 0
             while len(samples_uv) < CVT_SAMPLES_PER_LANDMARK * (ni + nb):
                 # the points on the surface and in the disk (and the density) subdivided together
                 fields = [samples_V, samples_uv] + ([] if density is None else [samples_density])
                 both, samples_F = upsample(np.column_stack(fields), samples_F, 1)
                 samples_V, samples_uv = both[:, :3], both[:, 3:5]
                 samples_density = None if density is None else both[:, 5]
-            E = edges(samples_F)
-            long = np.percentile(np.linalg.norm(samples_V[E[:, 0]] - samples_V[E[:, 1]], axis=1), 99)
+                halvings += 1
+            # (each subdivision halves every face's sides: the samples' face sides are the
+            # input's, halved, each as often)
+            long = np.percentile(face_edge_lengths(V, F), 99) / 2**halvings
             if long > SAMPLE_EDGE_RATIO * _output_edge_length(V, F, base_faces, density):
                 # A fan of slivers, subdivided, samples the surface along their long edges
                 # only (in rings around the fan's centre, on which the landmarks then sit):
