@@ -341,7 +341,7 @@ def _repair(V, F, data, sizing, stats):
     if not repaired:
         return None
     data = {k: np.asarray(v)[kept] for k, v in data.items()} if data else data
-    sizing = sizing[kept] if sizing is not None and not isinstance(sizing, str) else sizing
+    sizing = sizing[kept] if sizing is not None else None
     return V, F, data, sizing, kept
 
 
@@ -498,6 +498,20 @@ def _coincident_pairs(V, vertices):
     return vertices[cKDTree(V[vertices]).query_pairs(tol, output_type="ndarray")]
 
 
+def _crack_hint(V, F):
+    """What an error says of boundary vertices at the same points as others: cracks
+    between faces whose shared corners were written apart (a CAD part saved face by
+    face); "" where there are none."""
+    border = np.unique(boundary_edges(F))
+    twins = np.unique(_coincident_pairs(V, border))
+    if not len(twins):
+        return ""
+    return (
+        f" ({len(twins)} of its {len(border)} boundary vertices lie at the same points as others: "
+        "cracks between faces whose shared corners are not one vertex; merge them first)"
+    )
+
+
 def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     """:func:`remesh` of a surface that is not a disk (closed, with holes, with handles):
     cut open into a disk (:func:`qcremesh.mesh.cut.cut_to_disk`), remeshed with a fixed
@@ -515,20 +529,10 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
         raise ValueError(
             "a surface that is not a disk needs the relaxation (relax > 0) and a method other than 'uniform'"
         )
-    # Boundary vertices at the same points as others: cracks between faces whose shared
-    # corners were written apart (a CAD part saved face by face), named where the cut or
-    # the weld fails.
-    border = np.unique(boundary_edges(F))
-    twins = np.unique(_coincident_pairs(V, border))
-    hint = (
-        f" ({len(twins)} of its {len(border)} boundary vertices lie at the same points as others: "
-        "cracks between faces whose shared corners are not one vertex; merge them first)"
-        if len(twins) else ""
-    )
     try:
         F_cut, parent, cut = cut_to_disk(V, F, len(V))
     except ValueError as error:
-        raise TopologyError(f"cannot cut the surface open into a disk: {error}{hint}") from error
+        raise TopologyError(f"cannot cut the surface open into a disk: {error}{_crack_hint(V, F)}") from error
     edge = _output_edge_length(V, F, faces)
     if isinstance(sizing, str):
         # on the surface, not on the cut disk: the two sides of a cut see the same
@@ -584,7 +588,9 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
             repairs = dict(repairs, cut_trimmed=True)
             result, welded = attempt(F_cut, parent, cut, sizing)
     if welded is None:
-        raise TopologyError(f"the remesh of the surface cut open does not weld back into its topology{hint}")
+        raise TopologyError(
+            f"the remesh of the surface cut open does not weld back into its topology{_crack_hint(V, F)}"
+        )
     # A coarse level can have a face across two copies of a branch point of the cut
     # (the corners of the disk where a handle's two loops meet), which the weld folds
     # away: the levels start above the last such one.
