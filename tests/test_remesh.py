@@ -92,6 +92,25 @@ def test_attributes_are_carried(fran, fran_result):
     assert uv.min() >= data["uv"].min() - 1e-12 and uv.max() <= data["uv"].max() + 1e-12
 
 
+def test_attributes_keep_their_type(fran):
+    # colours as bytes stay bytes (the interpolated values rounded), a mask stays a mask,
+    # float32 stays float32
+    V, F, _ = fran
+    x = (V[:, 0] - V[:, 0].min()) / np.ptp(V[:, 0])
+    colour = np.rint(255 * np.column_stack([x, 1 - x, x * x])).astype(np.uint8)
+    data = {
+        "rgb": colour, "rgb_float": colour.astype(np.float64), "left": x < 0.5, "left_float": (x < 0.5) * 1.0,
+        "x": x.astype(np.float32), "label": np.where(x < 0.5, -3, 7),
+    }
+    r = remesh(V, F, 2000, data=data, seed=1)
+    rgb, left, xo, label = (r.data[k] for k in ("rgb", "left", "x", "label"))
+    assert rgb.dtype == np.uint8 and left.dtype == np.bool_ and xo.dtype == np.float32 and label.dtype == np.int64
+    assert np.array_equal(rgb, np.rint(r.data["rgb_float"]))
+    assert np.array_equal(left, r.data["left_float"] >= 0.5)
+    assert 0 < left.sum() < len(left)
+    assert np.array_equal(label, np.rint(-3 + 10 * (1 - r.data["left_float"])).astype(np.int64))
+
+
 def test_deterministic(fran, fran_result):
     V, F, data = fran
     again = remesh(V, F, data=data, seed=3)

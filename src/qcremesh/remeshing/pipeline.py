@@ -272,8 +272,11 @@ def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
     Returns
     -------
     list of arrays
-        Each of ``fields`` at the query points.
+        Each of ``fields`` at the query points, in its type: integer fields (colours of
+        0-255 as bytes, labels) rounded to the nearest value the type holds, boolean ones
+        true where the interpolated value is at least 1/2.
     """
+    types = [np.asarray(f).dtype for f in fields]
     fields = [np.asarray(f, dtype=np.float64) for f in fields]
     out = [np.zeros((len(query_uv),) + f.shape[1:]) for f in fields]
     inner = ~on_circle
@@ -286,7 +289,17 @@ def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
         theta = np.arctan2(query_uv[on_circle, 1], query_uv[on_circle, 0])
         for o, f in zip(out, fields):
             o[on_circle] = interpolate_on_boundary(theta_b, f[bnd], theta)
-    return out
+    return [_in_type(o, t) for o, t in zip(out, types)]
+
+
+def _in_type(values, dtype):
+    """Interpolated float64 ``values`` of a field of type ``dtype`` back in that type."""
+    if dtype == np.bool_:
+        return values >= 0.5
+    if np.issubdtype(dtype, np.integer):
+        info = np.iinfo(dtype)
+        return np.clip(np.rint(values), info.min, info.max).astype(dtype)
+    return values.astype(dtype, copy=False)
 
 
 def _repair(V, F, data, sizing, stats):
