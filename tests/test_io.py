@@ -136,6 +136,52 @@ def test_obj_bytes_are_deterministic(tmp_path):
     assert (tmp_path / "a.obj").read_bytes() == (tmp_path / "b.obj").read_bytes()
 
 
+def test_ply_bytes_are_deterministic_and_keep_the_data_types(tmp_path):
+    """meshio's PLY writer put the time of day in the header; colours as bytes stay
+    bytes, a mask becomes bytes, 64-bit integers 32-bit ones."""
+    uv, F = grid_disk(5)
+    V = np.column_stack([uv, uv[:, 0] ** 2])
+    rgb = np.rint(127.5 * (uv + 1)).astype(np.uint8)
+    data = {"red": rgb[:, 0], "green": rgb[:, 1], "inside": uv[:, 0] > 0, "label": np.arange(len(V)) - 3}
+    write_mesh(tmp_path / "a.ply", V, F, uv=uv, data=data)
+    write_mesh(tmp_path / "b.ply", V, F, uv=uv, data=data)
+    assert (tmp_path / "a.ply").read_bytes() == (tmp_path / "b.ply").read_bytes()
+    V2, F2, back = read_mesh(tmp_path / "a.ply", return_data=True)
+    np.testing.assert_array_equal(V2, V)
+    np.testing.assert_array_equal(F2, F)
+    assert back["red"].dtype == np.uint8 and back["red"].max() == 255
+    np.testing.assert_array_equal(back["green"], rgb[:, 1])
+    assert back["inside"].dtype == np.uint8
+    np.testing.assert_array_equal(back["inside"], uv[:, 0] > 0)
+    assert back["label"].dtype == np.int32
+    np.testing.assert_array_equal(back["label"], data["label"])
+    np.testing.assert_array_equal(back["uv"], uv)
+
+
+@pytest.mark.parametrize("text", [False, True])
+def test_ply_of_every_property_type(tmp_path, text):
+    """Binary PLY colours as ``uchar`` (meshio read 200 as -56) and the types meshio's
+    binary reader refused (``char``, ``short``, ``ushort``) are read as written."""
+    from plyfile import PlyData, PlyElement
+
+    uv, F = grid_disk(4)
+    types = {"red": "u1", "c": "i1", "s": "i2", "us": "u2", "ui": "u4", "f": "f4"}
+    vertex = np.zeros(len(uv), dtype=[("x", "f4"), ("y", "f4"), ("z", "f4")] + list(types.items()))
+    vertex["x"], vertex["y"] = uv.T
+    values = {"red": 200, "c": -100, "s": -30000, "us": 60000, "ui": 4000000000, "f": 0.5}
+    for name, value in values.items():
+        vertex[name] = value
+    face = np.empty(len(F), dtype=[("vertex_indices", "i4", (3,))])
+    face["vertex_indices"] = F
+    elements = [PlyElement.describe(vertex, "vertex"), PlyElement.describe(face, "face", len_types={"vertex_indices": "u1"})]
+    PlyData(elements, text=text).write(str(tmp_path / "t.ply"))
+    V, F2, data = read_mesh(tmp_path / "t.ply", return_data=True)
+    np.testing.assert_array_equal(F2, F)
+    np.testing.assert_allclose(V[:, :2], uv, atol=1e-7)
+    for name, value in values.items():
+        assert data[name].dtype == np.dtype(types[name]) and (data[name] == value).all(), name
+
+
 def test_failed_write_leaves_no_file(tmp_path):
     uv, F = grid_disk(4)
     with pytest.raises(ValueError, match="cannot write .xyz files"):

@@ -4,9 +4,11 @@ OBJ is read and written here: meshio's reader refuses texture coordinates with s
 (``f a/b`` where ``b`` is not ``a``, as every UV-mapped export has) and negative indices,
 and written here it carries texture coordinates as ``f a/a b/b c/c`` with bytes that do
 not depend on the time of day. OFF is read here too (meshio's reader takes triangles
-only, and no COFF nor counts on the header's line). PLY is read through meshio and, where
-meshio refuses a file (elements other than vertices and faces, as a range map's
-``camera``), through plyfile. MATLAB ``.mat`` files with variables ``v`` and ``f``
+only, and no COFF nor counts on the header's line). PLY is read and written through
+plyfile: meshio's binary reader takes ``uchar`` properties (the usual colours) as signed
+bytes (200 read as -56) and refuses ``char``, ``short`` and ``ushort`` ones and elements
+other than vertices and faces (a range map's ``camera``), and its writer puts the time of
+day in the header. MATLAB ``.mat`` files with variables ``v`` and ``f``
 (1-based), as distributed with the public quasi-conformal codes, are read through
 :func:`scipy.io.loadmat`. Every other format goes through meshio (STL, VTK/VTU, ...).
 Quads are split along their shorter diagonal, larger convex polygons into fans.
@@ -67,13 +69,10 @@ def read_mesh(path, *, return_data=False):
         V, F, data = _read_obj(path)
     elif suffix == ".off":
         V, F, data = _read_off(path)
+    elif suffix == ".ply":
+        V, F, data = _read_ply(path)
     else:
-        try:
-            V, F, data = _read_meshio(path)
-        except MeshReadError:
-            if suffix != ".ply":
-                raise
-            V, F, data = _read_plyfile(path)
+        V, F, data = _read_meshio(path)
     V = np.ascontiguousarray(V, dtype=np.float64)
     if V.ndim != 2 or V.shape[1] not in (2, 3):
         raise MeshReadError(f"{path}: vertices must have 2 or 3 coordinates")
@@ -236,9 +235,9 @@ def _per_vertex(vertex, ref, values, n):
     return np.nan_to_num(out)
 
 
-def _read_plyfile(path):
-    """Positions, faces and per-vertex scalars of a PLY file through plyfile, which reads
-    every element (meshio refuses elements other than vertices and faces)."""
+def _read_ply(path):
+    """Positions, faces and per-vertex scalars (in the file's types) of a PLY file through
+    plyfile."""
     from plyfile import PlyData
 
     try:
@@ -259,7 +258,7 @@ def _read_plyfile(path):
     F = _polygons_to_triangles(path, V, corners, sizes)
     # the vertices' numbers (lists, as some scanners write, are left out)
     data = {
-        n: np.asarray(vertex[n], dtype=np.float64)
+        n: np.asarray(vertex[n], dtype=vertex.dtype[n].newbyteorder("="))
         for n in vertex.dtype.names
         if n not in ("x", "y", "z") and vertex.dtype[n] != object
     }
@@ -333,11 +332,16 @@ def write_mesh(path, V, F, *, uv=None, data=None):
         uv = np.asarray(uv, dtype=np.float64)
         if uv.shape != (len(V), 2):
             raise ValueError(f"uv must be ({len(V)}, 2), got shape {uv.shape}")
+    point_data = {k: np.asarray(v) for k, v in (data or {}).items()}
+    if uv is not None:
+        point_data.update(texture_u=uv[:, 0], texture_v=uv[:, 1])
     with atomic_output(path) as tmp:
         if path.suffix.lower() == ".obj":
             _write_obj(tmp, V, F, uv)
+        elif path.suffix.lower() == ".ply":
+            _write_ply(tmp, V, F, point_data)
         else:
-            _write_meshio(tmp, V, F, uv, data)
+            _write_meshio(tmp, V, F, point_data)
 
 
 def check_writable(path):
@@ -409,17 +413,10 @@ def _format_rows(tag, A, integer=False, pairs=False):
     return (fmt * len(A)).format(*A.ravel().tolist())
 
 
-def _write_meshio(path, V, F, uv, data):
+def _write_meshio(path, V, F, point_data):
     import meshio
 
-    point_data = {k: np.asarray(v) for k, v in (data or {}).items()}
-    if Path(path).suffix.lower() == ".ply":
-        point_data = _ply_columns(point_data)
-    if uv is not None:
-        point_data["texture_u"] = uv[:, 0]
-        point_data["texture_v"] = uv[:, 1]
-    # 32-bit indices where they fit: PLY has no 64-bit integers, and meshio printed a
-    # warning on every PLY written.
+    # 32-bit indices where they fit: smaller files, and the type most readers expect
     cells = F.astype(np.int32) if len(V) < 2**31 else F
     mesh = meshio.Mesh(V, [("triangle", cells)], point_data=point_data)
     try:
@@ -428,10 +425,48 @@ def _write_meshio(path, V, F, uv, data):
         raise ValueError(f"cannot write {Path(path).suffix} files ({exc})") from exc
 
 
+def _write_ply(path, V, F, point_data):
+    """Binary PLY through plyfile: coordinates as doubles, the per-vertex data in their
+    types where PLY has them (booleans as bytes, 64-bit integers as 32-bit ones where
+    their values fit, doubles otherwise), faces as lists of 32-bit indices."""
+    from plyfile import PlyData, PlyElement
+
+    if len(V) >= 2**31:
+        raise ValueError("cannot write .ply files of 2**31 vertices or more (32-bit indices)")
+    columns = {"x": V[:, 0], "y": V[:, 1]}
+    if V.shape[1] == 3:
+        columns["z"] = V[:, 2]
+    for name, values in _ply_columns(point_data).items():
+        if name in columns:
+            raise ValueError(f"cannot write per-vertex data named {name!r} to .ply (a coordinate's name)")
+        columns[name] = _ply_typed(values)
+    vertex = np.empty(len(V), dtype=[(name, values.dtype) for name, values in columns.items()])
+    for name, values in columns.items():
+        vertex[name] = values
+    face = np.empty(len(F), dtype=[("vertex_indices", np.int32, (3,))])
+    face["vertex_indices"] = F
+    elements = [PlyElement.describe(vertex, "vertex"), PlyElement.describe(face, "face", len_types={"vertex_indices": "u1"})]
+    PlyData(elements, byte_order="<").write(str(path))
+
+
+def _ply_typed(values):
+    """``values`` in a type that PLY holds (8 to 32-bit integers, floats, doubles)."""
+    if values.dtype == np.bool_:
+        return values.astype(np.uint8)
+    if values.dtype.kind in "iu" and values.dtype.itemsize == 8:
+        big = len(values) and (values.min() < np.iinfo(np.int32).min or values.max() > np.iinfo(np.int32).max)
+        return values.astype(np.float64 if big else np.int32)
+    if values.dtype.kind == "f" and values.dtype.itemsize < 4:
+        return values.astype(np.float32)
+    if values.dtype.kind not in "iuf":
+        raise ValueError(f"cannot write per-vertex data of type {values.dtype} to .ply")
+    return values.astype(values.dtype.newbyteorder("<"))
+
+
 def _ply_columns(point_data):
     """Per-vertex arrays of several columns split into one property each, as PLY holds
-    them (meshio's PLY writer drops them): ``normals`` into ``nx``, ``ny``, ``nz``, any
-    other ``name`` into ``name_0``, ``name_1``, ..."""
+    them: ``normals`` into ``nx``, ``ny``, ``nz``, any other ``name`` into ``name_0``,
+    ``name_1``, ..."""
     out = {}
     for name, arr in point_data.items():
         if arr.ndim == 1 or (arr.ndim == 2 and arr.shape[1] == 1):
