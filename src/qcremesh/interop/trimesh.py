@@ -1,0 +1,121 @@
+"""Remeshing of trimesh's meshes.
+
+:func:`remesh_trimesh` takes a :class:`trimesh.Trimesh` and returns one, with what its
+vertices carry carried along: ``vertex_attributes``, texture coordinates (with the
+material, so a textured scan keeps its texture) and vertex colours.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..remeshing.pipeline import remesh
+
+__all__ = ["from_trimesh", "to_trimesh", "remesh_trimesh"]
+
+# names of the texture coordinates and vertex colours among the per-vertex data
+UV = "uv"
+COLORS = "vertex_colors"
+
+
+def _trimesh():
+    try:
+        import trimesh
+    except ImportError as exc:
+        raise ImportError("qcremesh.interop.trimesh needs trimesh: pip install trimesh") from exc
+    return trimesh
+
+
+def from_trimesh(mesh):
+    """The arrays of a :class:`trimesh.Trimesh`.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+
+    Returns
+    -------
+    V : (n, 3) float64
+    F : (m, 3) int64
+    data : dict of str to (n, ...) array
+        ``mesh.vertex_attributes`` with one row per vertex, ``"uv"`` the texture
+        coordinates of a textured mesh, ``"vertex_colors"`` the (n, 4) uint8 RGBA colours of
+        a mesh coloured per vertex.
+
+    Raises
+    ------
+    TypeError
+        ``mesh`` is not a Trimesh (a Scene: ``scene.to_mesh()`` joins its geometry).
+    """
+    trimesh = _trimesh()
+    if not isinstance(mesh, trimesh.Trimesh):
+        hint = ": scene.to_mesh() joins its geometry into one" if isinstance(mesh, trimesh.Scene) else ""
+        raise TypeError(f"expected a trimesh.Trimesh, got {type(mesh).__name__}{hint}")
+    V = np.array(mesh.vertices, dtype=np.float64)
+    F = np.array(mesh.faces, dtype=np.int64)
+    data = {k: np.asarray(v) for k, v in mesh.vertex_attributes.items() if len(v) == len(V)}
+    uv = getattr(mesh.visual, "uv", None)
+    if mesh.visual.kind == "texture" and uv is not None and len(uv) == len(V):
+        data[UV] = np.asarray(uv, dtype=np.float64)
+    elif mesh.visual.kind == "vertex":
+        data[COLORS] = np.asarray(mesh.visual.vertex_colors)
+    return V, F, data
+
+
+def to_trimesh(V, F, data=None, *, material=None):
+    """A :class:`trimesh.Trimesh` of arrays, as they are (trimesh's processing, which merges
+    vertices, is left to the caller).
+
+    Parameters
+    ----------
+    V : (n, 3) float
+    F : (m, 3) int
+    data : dict of str to (n, ...) array, optional
+        Per-vertex data: ``"uv"`` becomes the texture coordinates (with ``material``),
+        ``"vertex_colors"`` the vertex colours, the rest ``vertex_attributes``.
+    material : trimesh.visual.material.Material, optional
+        The texture of the texture coordinates.
+
+    Returns
+    -------
+    trimesh.Trimesh
+    """
+    trimesh = _trimesh()
+    data = dict(data or {})
+    uv, colors = data.pop(UV, None), data.pop(COLORS, None)
+    if uv is not None:
+        visual = trimesh.visual.TextureVisuals(uv=uv, material=material)
+    elif colors is not None:
+        visual = trimesh.visual.ColorVisuals(vertex_colors=colors)
+    else:
+        visual = None
+    return trimesh.Trimesh(V, F, visual=visual, vertex_attributes=data, process=False)
+
+
+def remesh_trimesh(mesh, faces=None, **options):
+    """:func:`qcremesh.remesh` of a :class:`trimesh.Trimesh`.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+    faces : int, optional
+        Face count wanted (default: the input's).
+    **options
+        The keyword arguments of :func:`qcremesh.remesh` (``seed``, ``levels``,
+        ``sizing``, ``creases``, ...), but ``data``: the mesh's own is carried.
+
+    Returns
+    -------
+    trimesh.Trimesh
+        The remeshed surface, with the input's vertex attributes, texture coordinates
+        (and material) and vertex colours interpolated at its vertices; the numbers of the
+        run (:attr:`qcremesh.RemeshResult.stats`) in ``metadata["qcremesh"]``.
+    """
+    if "data" in options:
+        raise TypeError("remesh_trimesh carries the mesh's own per-vertex data; data= is not taken")
+    V, F, data = from_trimesh(mesh)
+    result = remesh(V, F, faces, data=data, **options)
+    material = getattr(mesh.visual, "material", None) if UV in data else None
+    out = to_trimesh(result.V, result.F, result.data, material=material)
+    out.metadata["qcremesh"] = dict(result.stats)
+    return out
