@@ -12,6 +12,11 @@
     extension. ``--sizing curvature`` grades the edges by the surface's bending,
     ``--sizing NAME`` by a per-vertex array of the input (relative edge lengths).
 
+``qcremesh batch INPUT... -o OUTDIR [--format EXT] [--faces N | --faces-ratio R] [--jobs N] [--json FILE] [remesh's options]``
+    ``remesh`` of many files into a folder, in parallel processes, with a line per file
+    (faces, radius ratio, Hausdorff distance, time) and a summary; a file that fails is
+    reported and the others go on (exit status 1 if any failed).
+
 ``qcremesh quality MESH [--reference ORIGINAL] [--json]``
     Triangle quality, and distances to a reference surface.
 
@@ -28,7 +33,7 @@ import time
 from pathlib import Path
 
 from .. import __version__
-from ..mesh.io import MeshReadError, check_writable, read_mesh, write_mesh
+from ..mesh.io import MeshReadError, atomic_output, check_writable, read_mesh, write_mesh
 from ..mesh.topology import boundary_edges, duplicate_faces, edges, orient_faces
 from ..mesh.validate import MeshError, foldover_edges
 from ..param.disk import disk_conformal_map
@@ -106,24 +111,58 @@ def _parser():
     r.add_argument("input", help="triangle mesh (OBJ, PLY, OFF, STL, VTK, .mat, ...)")
     r.add_argument("-o", "--output", required=True, help="output mesh; the format follows the extension")
     r.add_argument("--faces", type=int, help="number of output faces (default: the input's)")
-    r.add_argument("--levels", type=int, default=2, help="subdivision levels above the base mesh (default 2)")
-    r.add_argument("--method", choices=METHODS, default="teichmuller", help="the pipeline or one of its ablations (default teichmuller)")
-    r.add_argument("--seed", type=int, default=0, help="seed of the landmark initialization (default 0)")
-    r.add_argument(
-        "--relax", type=int, default=40, metavar="K", help="tangential relaxation sweeps on the surface (0: the paper's pipeline alone; default 40)"
+    _add_remesh_options(r)
+    r.add_argument("--report", metavar="DIR", help="write figures and report.html into DIR")
+
+    b = sub.add_parser(
+        "batch",
+        help="remesh many files, in parallel processes, with a line per file and a summary",
+        description="qcremesh remesh of each INPUT into OUTDIR (same name; the format by --format or the "
+        "input's), in --jobs processes. A file that fails is reported and the others go on; the exit status "
+        "is 1 if any failed.",
     )
-    r.add_argument(
+    b.add_argument("inputs", nargs="+", metavar="INPUT", help="triangle meshes")
+    b.add_argument("-o", "--output", required=True, metavar="OUTDIR", help="output folder (created if missing)")
+    b.add_argument("--format", metavar="EXT", help="output format by extension, e.g. ply (default: the input's)")
+    count = b.add_mutually_exclusive_group()
+    count.add_argument("--faces", type=int, help="number of output faces of every file")
+    count.add_argument(
+        "--faces-ratio", type=float, metavar="R", help="number of output faces as a fraction of each input's (default 1)"
+    )
+    _add_remesh_options(b)
+    b.add_argument("--jobs", type=int, default=1, metavar="N", help="files remeshed at once, each in a process (default 1)")
+    b.add_argument("--json", metavar="FILE", help="write the records of every file (quality, time, errors) as JSON")
+
+    m = sub.add_parser("quality", help="triangle quality of a mesh, and its distance to a reference")
+    m.add_argument("mesh")
+    m.add_argument("--reference", metavar="ORIGINAL", help="surface to measure distances to")
+    m.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    return p
+
+
+def _add_remesh_options(parser):
+    """The options of the remesh itself, shared by ``remesh`` and ``batch``."""
+    parser.add_argument("--levels", type=int, default=2, help="subdivision levels above the base mesh (default 2)")
+    parser.add_argument(
+        "--method", choices=METHODS, default="teichmuller", help="the pipeline or one of its ablations (default teichmuller)"
+    )
+    parser.add_argument("--seed", type=int, default=0, help="seed of the landmark initialization (default 0)")
+    parser.add_argument(
+        "--relax", type=int, default=40, metavar="K",
+        help="tangential relaxation sweeps on the surface (0: the paper's pipeline alone; default 40)",
+    )
+    parser.add_argument(
         "--sizing",
         metavar="curvature|NAME",
         help="grade the edge lengths: 'curvature' (shorter where the surface bends at their scale) or the name "
         "of a per-vertex array of the input holding the relative edge length wanted",
     )
-    r.add_argument(
+    parser.add_argument(
         "--whole",
         action="store_true",
         help="remesh a disk whose map crowds its boundary in one piece, instead of cutting the crowded parts off",
     )
-    r.add_argument(
+    parser.add_argument(
         "--creases",
         type=float,
         nargs="?",
@@ -132,13 +171,21 @@ def _parser():
         help="keep the creases: the edges across which the surface turns by more than DEG degrees (60 if "
         "not given; CAD tessellations) become output edges",
     )
-    r.add_argument("--report", metavar="DIR", help="write figures and report.html into DIR")
 
-    m = sub.add_parser("quality", help="triangle quality of a mesh, and its distance to a reference")
-    m.add_argument("mesh")
-    m.add_argument("--reference", metavar="ORIGINAL", help="surface to measure distances to")
-    m.add_argument("--json", action="store_true", help="print JSON instead of a table")
-    return p
+
+def _check_remesh_options(args):
+    if args.faces is not None and args.faces < 4:
+        raise CommandError("--faces must be at least 4")
+    if args.levels < 0:
+        raise CommandError("--levels must be >= 0")
+    if args.relax < 0:
+        raise CommandError("--relax must be >= 0")
+    if args.creases is not None and not 0 < args.creases < 180:
+        raise CommandError("--creases must be between 0 and 180 degrees")
+    if args.creases is not None and (args.method == "uniform" or args.relax == 0):
+        raise CommandError("--creases needs the relaxation (--relax > 0) and a method other than uniform")
+    if args.sizing is not None and args.method == "uniform":
+        raise CommandError("--sizing does not go with --method uniform (a regular mesh of the disk)")
 
 
 def _check_output_folder(*targets):
@@ -195,18 +242,7 @@ def _remesh(args, out):
         raise CommandError(f"{args.output}: {exc}") from exc
     if args.report and Path(args.report).exists() and not Path(args.report).is_dir():
         raise CommandError(f"{args.report}: exists and is not a folder")
-    if args.faces is not None and args.faces < 4:
-        raise CommandError("--faces must be at least 4")
-    if args.levels < 0:
-        raise CommandError("--levels must be >= 0")
-    if args.relax < 0:
-        raise CommandError("--relax must be >= 0")
-    if args.creases is not None and not 0 < args.creases < 180:
-        raise CommandError("--creases must be between 0 and 180 degrees")
-    if args.creases is not None and (args.method == "uniform" or args.relax == 0):
-        raise CommandError("--creases needs the relaxation (--relax > 0) and a method other than uniform")
-    if args.sizing is not None and args.method == "uniform":
-        raise CommandError("--sizing does not go with --method uniform (a regular mesh of the disk)")
+    _check_remesh_options(args)
     t0 = time.perf_counter()
     V, F, data = read_mesh(args.input, return_data=True)
     t_read = time.perf_counter() - t0
@@ -350,6 +386,67 @@ def _remesh(args, out):
     print("time (s): " + ", ".join(f"{k} {v:.3f}" for k, v in stages.items()), file=out)
 
 
+def _batch(args, out):
+    import json
+
+    from .batch import output_paths, remesh_files
+
+    _check_remesh_options(args)
+    if args.faces_ratio is not None and not args.faces_ratio > 0:
+        raise CommandError("--faces-ratio must be positive")
+    if args.jobs < 1:
+        raise CommandError("--jobs must be at least 1")
+    for path in args.inputs:
+        if not Path(path).is_file():
+            raise CommandError(f"{path}: no such file")
+    folder = Path(args.output)
+    if folder.exists() and not folder.is_dir():
+        raise CommandError(f"{folder}: exists and is not a folder")
+    _check_output_folder(args.json)
+    suffix = "." + args.format.lstrip(".") if args.format else None
+    try:
+        outputs = output_paths(args.inputs, folder, suffix)
+    except ValueError as exc:
+        raise CommandError(str(exc)) from exc
+    for output in outputs:
+        try:
+            check_writable(output)
+        except ValueError as exc:
+            hint = "" if suffix else " (give --format)"
+            raise CommandError(f"{output}: {exc}{hint}") from exc
+    folder.mkdir(parents=True, exist_ok=True)
+    options = dict(
+        faces=args.faces, faces_ratio=args.faces_ratio, levels=args.levels, method=args.method, seed=args.seed,
+        relax=args.relax, sizing=args.sizing, cut_crowded=not args.whole, creases=args.creases,
+    )
+    start = time.perf_counter()
+    records = []
+    total = len(args.inputs)
+    for record in remesh_files(list(zip(args.inputs, outputs)), jobs=args.jobs, **options):
+        records.append(record)
+        head = f"[{len(records)}/{total}] {record['input']}"
+        if "error" in record:
+            message = record["error"].removeprefix(f"{record['input']}: ")
+            print(f"{head}: error: {message}", file=sys.stderr)
+            continue
+        print(
+            f"{head} -> {record['output']}: {record['faces']:,} faces, mean q {record['q_mean']:.4f}, "
+            f"min q {record['q_min']:.3f}, Hausdorff {100 * record['hausdorff']:.3f} %, {record['seconds']:.1f} s",
+            file=out,
+            flush=True,
+        )
+    failed = [r["input"] for r in records if "error" in r]
+    print(
+        f"{total - len(failed)} of {total} files remeshed in {time.perf_counter() - start:.1f} s"
+        + (f"; failed: {', '.join(failed)}" if failed else ""),
+        file=out,
+    )
+    if args.json:
+        with atomic_output(args.json) as tmp:
+            Path(tmp).write_text(json.dumps(records, indent=2) + "\n")
+    return 1 if failed else 0
+
+
 def _quality(args, out):
     import json
 
@@ -421,7 +518,8 @@ def main(argv=None):
     """Entry point of the ``qcremesh`` console script; returns the exit status."""
     args = _parser().parse_args(argv)
     try:
-        {"param": _param, "remesh": _remesh, "quality": _quality}[args.command](args, sys.stdout)
+        commands = {"param": _param, "remesh": _remesh, "batch": _batch, "quality": _quality}
+        status = commands[args.command](args, sys.stdout) or 0
     except (CommandError, MeshReadError, ImportError) as exc:
         print(f"qcremesh: error: {exc}", file=sys.stderr)
         return 1
@@ -433,7 +531,7 @@ def main(argv=None):
         # are written by then; stop quietly, also at the interpreter's final flush.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
-    return 0
+    return status
 
 
 if __name__ == "__main__":
