@@ -380,3 +380,17 @@ def test_remesh_cli_says_where_the_weld_failed(tmp_path, capsys):
     )
     assert weld < trim
     assert "sizing (where the weld failed): edges planned down to" in out
+
+
+def test_remesh_cli_says_when_it_cut_long_boundary_edges(tmp_path, capsys):
+    from scipy.spatial import Delaunay
+
+    P = np.random.default_rng(2).random((3000, 2)) * [3.0, 1.0]
+    write_mesh(tmp_path / "points.obj", np.column_stack([P, np.zeros(len(P))]), Delaunay(P).simplices)
+    assert main(["remesh", str(tmp_path / "points.obj"), "-o", str(tmp_path / "out.obj"), "--faces", "3000"]) == 0
+    lines = [line for line in capsys.readouterr().out.splitlines() if line.startswith("boundary edges")]
+    assert len(lines) == 1 and re.fullmatch(
+        r"boundary edges more than 4 times as long as the edges around them \(a triangulated point set's hull\) "
+        r"cut into pieces first: \d+ vertices added on them",
+        lines[0],
+    )

@@ -375,6 +375,25 @@ def test_sheared_star_remeshes_without_slivers():
         assert np.all(np.min(np.linalg.norm(r.V[:, None] - corners[None], axis=2), axis=0) < 1e-12)
 
 
+def test_scattered_point_set_gets_its_long_boundary_edges_cut():
+    """A planar Delaunay mesh of random points of a 3:1 rectangle: its boundary is the
+    convex hull, 24 edges tens of times longer than the edges inside, with slivers along
+    them; its disk map was a polygon of 24 corners, its remesh had slivers (min q 0.000,
+    mean 0.967)."""
+    from scipy.spatial import Delaunay
+
+    P = np.random.default_rng(2).random((3000, 2)) * [3.0, 1.0]
+    F = Delaunay(P).simplices
+    V = np.column_stack([P, np.zeros(len(P))])
+    r = remesh(V, F, 3000, seed=0, data={"x": P[:, 0]})
+    assert r.stats["boundary_split_vertices"] > 150
+    q = mesh_quality(r.V, r.F, reference=(V, F))
+    assert q["boundary_loops"] == 1 and q["euler_characteristic"] == 1 and abs(q["faces"] - 3000) <= 150
+    assert q["q_min"] > 0.6 and q["q_mean"] > 0.975
+    assert q["boundary_hausdorff"] < 0.005 and np.abs(r.V[:, 2]).max() == 0
+    np.testing.assert_allclose(r.data["x"], r.V[:, 0], atol=1e-12)  # data carried through the cut edges
+
+
 def test_faces_listed_twice_are_kept_once(fran):
     V, F, _ = fran
     twice = np.r_[F, F[[10, 20, 20]], F[[30], ::-1]]  # one face three times, one turned

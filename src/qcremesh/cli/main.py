@@ -38,7 +38,7 @@ from ..mesh.topology import boundary_edges, duplicate_faces, edges, orient_faces
 from ..mesh.validate import MeshError, foldover_edges
 from ..param.disk import disk_conformal_map
 from ..remeshing.min_quality import QUALITY_FLOOR
-from ..remeshing.pipeline import METHODS
+from ..remeshing.pipeline import LONG_BOUNDARY_RATIO, METHODS
 
 __all__ = ["main"]
 
@@ -295,6 +295,12 @@ def _remesh(args, out):
         )
     if mended:
         print("repaired the input first: " + "; ".join(mended), file=out)
+    if "boundary_split_vertices" in st:
+        print(
+            f"boundary edges more than {LONG_BOUNDARY_RATIO:g} times as long as the edges around them (a triangulated "
+            f"point set's hull) cut into pieces first: {st['boundary_split_vertices']:,} vertices added on them",
+            file=out,
+        )
     if "pieces" in st:
         faces = ", ".join(f"{f:,}" for f in st["piece_faces"])
         print(f"{st['pieces']} pieces, remeshed each ({faces} faces; the numbers below are the largest's)", file=out)

@@ -64,7 +64,7 @@ def negative_cotangent_weights(V, F):
     return float(np.mean(cot[h] + cot[twin[h]] < 0))
 
 
-def intrinsic_delaunay(V, F, rounds=1000):
+def intrinsic_delaunay(V, F, rounds=1000, flat=None):
     """Intrinsic Delaunay triangulation of a manifold triangle mesh by edge flips.
 
     Parameters
@@ -74,6 +74,11 @@ def intrinsic_delaunay(V, F, rounds=1000):
         Manifold, consistently oriented.
     rounds : int
         Maximum number of rounds of independent flips.
+    flat : float, optional
+        Flip only the edges whose two triangles lie in one plane, their normals within
+        ``flat`` radians: the flips are then those of the mesh itself, which keep its
+        surface, and the result is a triangulation of it in ``V`` (Delaunay where it is
+        flat).
 
     Returns
     -------
@@ -100,6 +105,8 @@ def intrinsic_delaunay(V, F, rounds=1000):
         # half-edge h is side h % 3 of its face; the angle opposite it is the cotangent of
         # that side; a tolerance keeps cocircular quads (a regular grid) as they are
         excess = -(cot[h] + cot[twin[h]])
+        if flat is not None:
+            excess[~_flat_quads(V, F, h, twin[h], flat)] = 0.0
         bad = np.flatnonzero(excess > 1e-9)
         if len(bad) == 0:
             break
@@ -145,6 +152,19 @@ def intrinsic_delaunay(V, F, rounds=1000):
         h = h[twin[h] >= 0]
         h = np.unique(np.minimum(h, twin[h]))
     return F, L, twin, flips
+
+
+def _flat_quads(V, F, h, t, tolerance):
+    """Whether the two faces of each half-edge h (its twin t) lie in one plane: their
+    normals within ``tolerance`` radians."""
+    f1, k1, f2, k2 = h // 3, h % 3, t // 3, t % 3
+    a, b, c = V[F[f1, k1]], V[F[f1, (k1 + 1) % 3]], V[F[f1, (k1 + 2) % 3]]
+    d = V[F[f2, (k2 + 2) % 3]]
+    n1 = np.cross(b - a, c - a)
+    n2 = np.cross(a - b, d - b)
+    sine = np.linalg.norm(np.cross(n1, n2), axis=1)
+    cosine = np.einsum("ij,ij->i", n1, n2)
+    return (cosine > 0) & (sine <= tolerance * cosine)
 
 
 def intrinsic_cotmatrix(F, lengths, n):

@@ -70,6 +70,7 @@ from ..geometry.creases import check_crease_angle, sharp_edges
 from ..geometry.locate import interpolate_barycentric, locate_points
 from ..geometry.operators import doublearea, vertex_areas
 from ..geometry.quality import corner_radius_ratio_bound, radius_ratio, triangle_angles
+from ..geometry.refine import refine_boundary
 from ..geometry.repair import repair_degenerate_faces
 from ..geometry.threads import query_workers
 from ..mesh.cut import (
@@ -144,6 +145,13 @@ NONCONFORMAL_RINGS = 3
 # human_brain) raised the mean radius ratio by 0.01-0.02 (seeds 0-1; 0.005-0.01 at a
 # quarter of human_brain's count, 0.32) and min q and the Hausdorff distance mostly.
 MAX_CELL_SPREAD = 0.28
+
+# Boundary edges more than this many times as long as the edges around them (the convex
+# hull of a triangulated point set: 30-150 times) are cut into pieces where the surface
+# around them is flat (:func:`qcremesh.geometry.refine.refine_boundary`). The disk meshes
+# of ../shared/data: at most 3.7 times; their longest boundary edge is at most 3.7 times
+# the median face side, which rules most inputs out before the local measure.
+LONG_BOUNDARY_RATIO = 4.0
 
 # Where the remesh of a surface cut open does not weld back, it is done again with the
 # edges around where the weld went wrong shortened to these ratios, in turn.
@@ -300,6 +308,35 @@ def _in_type(values, dtype):
         info = np.iinfo(dtype)
         return np.clip(np.rint(values), info.min, info.max).astype(dtype)
     return values.astype(dtype, copy=False)
+
+
+def _refine_long_boundary(V, F, data, sizing, stats, loop=None):
+    """The input with its boundary edges far longer than the edges around them cut into
+    pieces, and its flat parts flipped to Delaunay
+    (:func:`qcremesh.geometry.refine.refine_boundary`): vertices, faces, data and sizing
+    (interpolated along the edges; data in their types), or None where no edge is cut.
+    ``loop``, the boundary loop where known, spares finding the boundary edges."""
+    if loop is None:
+        B = boundary_edges(F)
+    else:
+        B = np.column_stack([loop, np.roll(loop, -1)])
+    if not len(B):
+        return None
+    longest = np.linalg.norm(V[B[:, 1]] - V[B[:, 0]], axis=1).max()
+    if longest <= LONG_BOUNDARY_RATIO * np.median(np.linalg.norm(V[F[:, 1]] - V[F[:, 0]], axis=1)):
+        return None
+    F_new, along = refine_boundary(V, F, LONG_BOUNDARY_RATIO)
+    if F_new is None:
+        return None
+    stats["boundary_split_vertices"] = along.shape[0] - len(V)
+
+    def carried(values):
+        values = np.asarray(values)
+        flat = np.asarray(values, dtype=np.float64).reshape(len(values), -1)
+        return _in_type((along @ flat).reshape((along.shape[0],) + values.shape[1:]), values.dtype)
+
+    data = {k: carried(v) for k, v in data.items()} if data else data
+    return along @ V, F_new, data, None if sizing is None else along @ sizing
 
 
 def _repair(V, F, data, sizing, stats):
@@ -1100,7 +1137,16 @@ def remesh(
             V, F, data, sizing, kept = repaired
             if corners is not None:
                 corners = _renumbered(corners, kept)
+            # (before the map: the caps that no flip mends can be those along such edges)
+            refined = None if fixed_boundary else _refine_long_boundary(V, F, data, sizing, stats)
+            if refined is not None:
+                V, F, data, sizing = refined
             dm = disk_conformal_map(V, F)
+        else:
+            refined = None if fixed_boundary else _refine_long_boundary(V, F, data, sizing, stats, dm.boundary)
+            if refined is not None:
+                V, F, data, sizing = refined
+                dm = disk_conformal_map(V, F)
     except TopologyError:
         sizing = "curvature" if curvature else sizing
         result = _remesh_not_disk(
