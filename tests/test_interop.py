@@ -134,3 +134,12 @@ def test_pyvista_refuses_what_is_not_a_surface():
         from_pyvista(pv.PolyData(np.random.default_rng(0).random((5, 3))))
     with pytest.raises(TypeError, match="carries the mesh's own point data"):
         remesh_pyvista(pv.Sphere(), data={})
+
+
+def test_a_missing_library_is_named_with_its_install(monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "trimesh", None)  # as if not installed
+    V, F = bumpy_grid(4)
+    with pytest.raises(ImportError, match=r"^qcremesh.interop.trimesh needs trimesh: pip install trimesh$"):
+        to_trimesh(V, F)

@@ -9,16 +9,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..remeshing.pipeline import remesh
+from . import require
 
 __all__ = ["from_pyvista", "to_pyvista", "remesh_pyvista"]
 
-
-def _pyvista():
-    try:
-        import pyvista
-    except ImportError as exc:
-        raise ImportError("qcremesh.interop.pyvista needs pyvista: pip install pyvista") from exc
-    return pyvista
 
 
 def from_pyvista(mesh):
@@ -45,7 +39,7 @@ def from_pyvista(mesh):
     ValueError
         It has no faces.
     """
-    pv = _pyvista()
+    pv = require("pyvista")
     if not isinstance(mesh, pv.PolyData):
         hint = ": mesh.extract_surface() gives its surface" if isinstance(mesh, pv.DataSet) else ""
         raise TypeError(f"expected a pyvista.PolyData, got {type(mesh).__name__}{hint}")
@@ -82,7 +76,7 @@ def to_pyvista(V, F, data=None):
     -------
     pyvista.PolyData
     """
-    pv = _pyvista()
+    pv = require("pyvista")
     F = np.asarray(F, dtype=np.int64)
     cells = np.column_stack([np.full(len(F), 3, dtype=np.int64), F]).ravel()
     out = pv.PolyData(np.asarray(V, dtype=np.float64), faces=cells)

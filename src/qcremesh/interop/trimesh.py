@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..remeshing.pipeline import remesh
+from . import require
 
 __all__ = ["from_trimesh", "to_trimesh", "remesh_trimesh"]
 
@@ -17,13 +18,6 @@ __all__ = ["from_trimesh", "to_trimesh", "remesh_trimesh"]
 UV = "uv"
 COLORS = "vertex_colors"
 
-
-def _trimesh():
-    try:
-        import trimesh
-    except ImportError as exc:
-        raise ImportError("qcremesh.interop.trimesh needs trimesh: pip install trimesh") from exc
-    return trimesh
 
 
 def from_trimesh(mesh):
@@ -47,7 +41,7 @@ def from_trimesh(mesh):
     TypeError
         ``mesh`` is not a Trimesh (a Scene: ``scene.to_mesh()`` joins its geometry).
     """
-    trimesh = _trimesh()
+    trimesh = require("trimesh")
     if not isinstance(mesh, trimesh.Trimesh):
         hint = ": scene.to_mesh() joins its geometry into one" if isinstance(mesh, trimesh.Scene) else ""
         raise TypeError(f"expected a trimesh.Trimesh, got {type(mesh).__name__}{hint}")
@@ -80,7 +74,7 @@ def to_trimesh(V, F, data=None, *, material=None):
     -------
     trimesh.Trimesh
     """
-    trimesh = _trimesh()
+    trimesh = require("trimesh")
     data = dict(data or {})
     uv, colors = data.pop(UV, None), data.pop(COLORS, None)
     if uv is not None:
