@@ -103,12 +103,12 @@ def split_boundary_edges(F, n, pieces):
     m = len(F)
     B = boundary_edges(F)
     count = np.asarray(pieces(B), dtype=np.int64)
-    H = half_edges(F)
+    sides = _edge_keys(half_edges(F), n)
     # the count of each side of each face (side j: F[j] -> F[j + 1]); 1 where not on the boundary
     order = np.argsort(_edge_keys(B, n))
     keys = _edge_keys(B, n)[order]
-    at = np.minimum(np.searchsorted(keys, _edge_keys(H, n)), len(keys) - 1)
-    on = keys[at] == _edge_keys(H, n)
+    at = np.minimum(np.searchsorted(keys, sides), len(keys) - 1)
+    on = keys[at] == sides
     side = np.where(on, count[order][at], 1).reshape(3, m).T
     j = side.argmax(axis=1)
     k = side[np.arange(m), j]
