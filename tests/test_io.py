@@ -282,3 +282,21 @@ def test_read_mat():
     V2, F2 = read_mesh(SHARED / "alex_3.ply")
     np.testing.assert_array_equal(F, F2)
     np.testing.assert_allclose(V, V2)
+
+
+def test_a_format_whose_writer_lacks_a_module_is_refused_before_the_work(tmp_path, monkeypatch, capsys):
+    """meshio's XDMF writer needs h5py: the check tries the writer on one triangle (the
+    remesh was done first, and then its write failed)."""
+    import sys
+
+    from qcremesh.cli.main import main
+    from qcremesh.mesh.io import check_writable
+
+    monkeypatch.setitem(sys.modules, "h5py", None)  # as if not installed
+    with pytest.raises(ValueError, match=r"^cannot write \.xdmf files \(.*h5py.*\)$"):
+        check_writable(tmp_path / "out.xdmf")
+    check_writable(tmp_path / "out.vtu")
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "out.xdmf")]) == 1
+    err = capsys.readouterr()
+    assert err.out == "" and err.err.startswith(f"qcremesh: error: {tmp_path / 'out.xdmf'}: cannot write .xdmf files")
+    assert list(tmp_path.iterdir()) == []

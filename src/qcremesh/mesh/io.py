@@ -345,17 +345,23 @@ def write_mesh(path, V, F, *, uv=None, data=None):
 
 
 def check_writable(path):
-    """Raise ValueError unless :func:`write_mesh` knows the format of ``path`` by its
-    extension (OBJ, or one of meshio's), so that a caller can tell before the work whose
-    result it writes."""
+    """Raise ValueError unless :func:`write_mesh` can write the format of ``path`` by its
+    extension (OBJ, PLY, or one of meshio's, whose writer is tried on one triangle: some
+    need a module not installed, as XDMF h5py), so that a caller can tell before the work
+    whose result it writes."""
     import meshio
 
     name = Path(path).name.lower()
-    if not any(name.endswith(ext) for ext in (".obj", *meshio.extension_to_filetypes)):
+    known = [ext for ext in (".obj", *meshio.extension_to_filetypes) if name.endswith(ext)]
+    if not known:
         what = f"{Path(path).suffix} files" if Path(path).suffix else "a file without an extension"
         raise ValueError(
             f"cannot write {what} (the extension names the format: .obj, .ply, .off, .stl, .vtk, .vtu, ...)"
         )
+    ext = max(known, key=len)
+    if ext not in (".obj", ".ply"):
+        with tempfile.TemporaryDirectory() as folder:
+            _write_meshio(Path(folder) / f"probe{ext}", np.eye(3), np.array([[0, 1, 2]]), {})
 
 
 @contextmanager
@@ -420,7 +426,8 @@ def _write_meshio(path, V, F, point_data):
     cells = F.astype(np.int32) if len(V) < 2**31 else F
     mesh = meshio.Mesh(V, [("triangle", cells)], point_data=point_data)
     try:
-        meshio.write(path, mesh)
+        with redirect_stdout(io.StringIO()), redirect_stderr(io.StringIO()):
+            meshio.write(path, mesh)
     except Exception as exc:
         raise ValueError(f"cannot write {Path(path).suffix} files ({exc})") from exc
 
