@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from ..mesh.topology import _edge_keys, boundary_edges, edges, half_edges, vertex_face_incidence
+from ..mesh.topology import _edge_keys, boundary_edges, half_edges, vertex_face_incidence
 from .intrinsic import intrinsic_delaunay
 
 __all__ = ["local_edge_length", "split_boundary_edges", "refine_boundary"]
@@ -33,7 +33,9 @@ FLAT = 1e-6
 
 def local_edge_length(V, F, points, neighbours=16):
     """The typical edge length of a mesh around given points: the median, over the
-    ``neighbours`` vertices nearest each point, of each vertex's median edge length.
+    ``neighbours`` vertices nearest each point, of each vertex's median edge length (over
+    the edges it starts as a corner of its faces, which leaves out one of a boundary
+    vertex's two boundary edges).
 
     Parameters
     ----------
@@ -50,25 +52,26 @@ def local_edge_length(V, F, points, neighbours=16):
 
 
 def _typical_length(V, F, neighbours):
-    """:func:`local_edge_length` of the mesh, as a function of the points."""
+    """:func:`local_edge_length` of the mesh, as a function of the points (each vertex's
+    median over the edges it starts, computed for the vertices near the points only)."""
     V = np.asarray(V, dtype=np.float64)
-    E = edges(F)
-    length = np.linalg.norm(V[E[:, 0]] - V[E[:, 1]], axis=1)
-    vertex = np.r_[E[:, 0], E[:, 1]]
-    value = np.r_[length, length]
-    order = np.lexsort((value, vertex))
-    vertex, value = vertex[order], value[order]
-    count = np.bincount(vertex, minlength=len(V))
-    start = np.r_[0, np.cumsum(count)[:-1]]
-    used = np.flatnonzero(count > 0)
-    median = value[start[used] + (count[used] - 1) // 2]
+    H = half_edges(F)
+    used = np.unique(H[:, 0])
     k = min(neighbours, len(used))
     tree = cKDTree(V[used])
 
     def at(points):
         points = np.asarray(points, dtype=np.float64)
-        near = tree.query(points, k=k)[1].reshape(len(points), k)
-        return np.median(median[near], axis=1)
+        near = used[tree.query(points, k=k)[1].reshape(len(points), k)]
+        around, slot = np.unique(near, return_inverse=True)
+        start = H[np.isin(H[:, 0], around)]
+        owner = np.searchsorted(around, start[:, 0])
+        length = np.linalg.norm(V[start[:, 1]] - V[start[:, 0]], axis=1)
+        order = np.lexsort((length, owner))
+        count = np.bincount(owner, minlength=len(around))
+        first = np.r_[0, np.cumsum(count)[:-1]]
+        median = length[order][first + (count - 1) // 2]
+        return np.median(median[slot.reshape(near.shape)], axis=1)
 
     return at
 
@@ -187,7 +190,8 @@ def refine_boundary(V, F, ratio=4.0, neighbours=16, rounds=3):
     """
     V = np.asarray(V, dtype=np.float64)
     F = np.asarray(F, dtype=np.int64)
-    if not len(boundary_edges(F)):
+    B = boundary_edges(F)
+    if not len(B):
         return None, None
     typical = _typical_length(V, F, neighbours)
     P = sp.identity(len(V), format="csr")
@@ -196,9 +200,12 @@ def refine_boundary(V, F, ratio=4.0, neighbours=16, rounds=3):
     def pieces(E):
         length = np.linalg.norm(X[E[:, 0]] - X[E[:, 1]], axis=1)
         local = typical((X[E[:, 0]] + X[E[:, 1]]) / 2)
-        long = (length > ratio * local) & _flat_around(X, F, E)
+        long = length > ratio * local
+        long[long] = _flat_around(X, F, E[long])
         return np.where(long, np.ceil(length / local), 1)
 
+    if not (pieces(B) > 1).any():
+        return None, None
     for _ in range(rounds):
         F_next, Q = split_boundary_edges(F, len(X), pieces)
         if Q.shape[0] == len(X):
