@@ -15,7 +15,7 @@ from qcremesh.mesh.topology import (
     nonmanifold_edges,
     nonmanifold_vertices,
 )
-from qcremesh.mesh.validate import MeshError, TopologyError, check_disk
+from qcremesh.mesh.validate import MeshError, OrientationError, TopologyError, check_disk
 from qcremesh.param.disk import disk_conformal_map
 from qcremesh.remeshing.pipeline import METHODS, remesh
 
@@ -493,3 +493,17 @@ def test_remesh_of_a_fan_of_slivers():
     r = remesh(V, F, 2000)
     q = radius_ratio(r.V, r.F)
     assert abs(len(r.F) - 2000) <= 100 and q.mean() > 0.975 and q.min() > 0.6
+
+
+def test_a_moebius_strip_is_refused_as_not_orientable():
+    n = 20
+    t = np.linspace(0, 2 * np.pi, n + 1)[:-1]
+    V = np.vstack([
+        np.column_stack([(1 + s * np.cos(t / 2)) * np.cos(t), (1 + s * np.cos(t / 2)) * np.sin(t), s * np.sin(t / 2)])
+        for s in (-0.2, 0.2)
+    ])
+    k = np.arange(n)
+    nxt, across = np.where(k < n - 1, k + 1, n), np.where(k < n - 1, n + k + 1, 0)  # the half twist at the seam
+    F = np.vstack([np.column_stack([k, nxt, n + k]), np.column_stack([n + k, nxt, across])])
+    with pytest.raises(OrientationError, match=r"^the surface is not orientable \(as a Moebius strip\): no orientation"):
+        remesh(V, F, 200)

@@ -378,8 +378,11 @@ def _repair(V, F, data, sizing, stats):
     if len(inconsistent_edges(F)):
         try:
             F, turned = orient_faces(F)
-        except ValueError:
-            return None
+        except ValueError as exc:
+            raise OrientationError(
+                "the surface is not orientable (as a Moebius strip): no orientation of its faces agrees across "
+                "every edge"
+            ) from exc
         stats["reoriented_faces"] = int(turned.sum())
         repaired = True
     needle, cap = needles_and_caps(V, F)
