@@ -507,3 +507,17 @@ def test_a_moebius_strip_is_refused_as_not_orientable():
     F = np.vstack([np.column_stack([k, nxt, n + k]), np.column_stack([n + k, nxt, across])])
     with pytest.raises(OrientationError, match=r"^the surface is not orientable \(as a Moebius strip\): no orientation"):
         remesh(V, F, 200)
+
+
+def test_two_triangles_that_share_one_corner_are_two_pieces():
+    """A bowtie: the repair splits the shared corner, and the two triangles are remeshed
+    each (they were refused as a triangle soup, with a hint to weld the vertices)."""
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]], float)
+    F = np.array([[0, 1, 2], [0, 3, 4]])
+    r = remesh(V, F, 100, seed=0)
+    assert r.stats["split_vertices"] == 1 and r.stats["pieces"] == 2
+    q = mesh_quality(r.V, r.F, reference=(V, F))
+    assert q["boundary_loops"] == 2 and q["hausdorff"] < 1e-12 and q["q_min"] > 0.4
+    # a soup of faces sharing no vertex at all is still refused
+    with pytest.raises(TopologyError, match="no two faces share a vertex: weld the coincident vertices first"):
+        remesh(np.vstack([V[[0, 1, 2]], V[[0, 3, 4]]]), np.array([[0, 1, 2], [3, 4, 5]]), 100)

@@ -898,7 +898,8 @@ def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, boundary_edge
     strip = len(loops) == 1 and len(loops[0]) == len(V)
     if boundary_edge_length is not None and not (strip and pieces == 1):
         raise ValueError("boundary_edge_length is taken only on a disk")
-    if pieces > 1 and np.bincount(F.ravel()).max() > 1:
+    # (faces that share no vertex are a triangle soup, unless the repair split them apart)
+    if pieces > 1 and (np.bincount(F.ravel()).max() > 1 or "split_vertices" in stats):
         if corners is not None and len(corners):
             raise ValueError("corners are taken only on a disk")
         return _remesh_pieces(V, F, label, pieces, faces, sizing, fixed_boundary, data, stats, options)
