@@ -6,6 +6,7 @@ from qcremesh.geometry.quality import mesh_quality, radius_ratio
 from qcremesh.interop.pyvista import from_pyvista, remesh_pyvista, to_pyvista
 from qcremesh.interop.trimesh import from_trimesh, remesh_trimesh, to_trimesh
 from qcremesh.mesh.io import read_mesh
+from qcremesh.mesh.topology import boundary_loops
 from qcremesh.remeshing.pipeline import remesh
 
 trimesh = pytest.importorskip("trimesh")
@@ -143,3 +144,31 @@ def test_a_missing_library_is_named_with_its_install(monkeypatch):
     V, F = bumpy_grid(4)
     with pytest.raises(ImportError, match=r"^qcremesh.interop.trimesh needs trimesh: pip install trimesh$"):
         to_trimesh(V, F)
+
+
+def seamed_grid():
+    """A grid disk cut along x = 1/2 into two sheets whose vertices there are copies, with
+    texture coordinates that differ across the cut (as trimesh loads a textured OBJ)."""
+    V, F = bumpy_grid(13)
+    seam = np.flatnonzero(np.isclose(V[:, 0], 0.5))
+    right = V[F].mean(1)[:, 0] > 0.5
+    copy = np.arange(len(V))
+    copy[seam] = len(V) + np.arange(len(seam))
+    F = np.where(right[:, None], copy[F], F)
+    V = np.vstack([V, V[seam]])
+    uv = V[:, :2].copy()
+    uv[len(uv) - len(seam):, 0] += 1.0  # the right sheet's copies in another tile of the texture
+    return V, F, uv
+
+
+def test_remesh_trimesh_welds_texture_seams():
+    V, F, uv = seamed_grid()
+    mesh = trimesh.Trimesh(V, F, visual=trimesh.visual.TextureVisuals(uv=uv), process=False)
+    mesh.vertex_attributes["x"] = V[:, 0]
+    assert len(boundary_loops(mesh.faces)) == 2  # two sheets
+    with pytest.warns(UserWarning, match=r"^remesh_trimesh merged the vertices at the same position \(a texture's seams\); uv"):
+        out = remesh_trimesh(mesh, 600)
+    assert len(boundary_loops(out.faces)) == 1 and not isinstance(out.visual, trimesh.visual.TextureVisuals)
+    np.testing.assert_allclose(out.vertex_attributes["x"], out.vertices[:, 0], atol=1e-12)  # agrees across: kept
+    kept = remesh_trimesh(mesh, 600, weld=False)
+    assert len(boundary_loops(kept.faces)) == 2 and isinstance(kept.visual, trimesh.visual.TextureVisuals)

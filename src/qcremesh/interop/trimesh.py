@@ -2,17 +2,21 @@
 
 :func:`remesh_trimesh` takes a :class:`trimesh.Trimesh` and returns one, with what its
 vertices carry carried along: ``vertex_attributes``, texture coordinates (with the
-material, so a textured scan keeps its texture) and vertex colours.
+material) and vertex colours. trimesh splits the vertices along a texture's seams; they
+are merged first, and the texture coordinates, which differ across the seams, left out
+(``weld=False`` keeps both).
 """
 
 from __future__ import annotations
+
+import warnings
 
 import numpy as np
 
 from ..remeshing.pipeline import remesh
 from . import require
 
-__all__ = ["from_trimesh", "to_trimesh", "remesh_trimesh"]
+__all__ = ["from_trimesh", "to_trimesh", "weld_seams", "remesh_trimesh"]
 
 # names of the texture coordinates and vertex colours among the per-vertex data
 UV = "uv"
@@ -86,7 +90,42 @@ def to_trimesh(V, F, data=None, *, material=None):
     return trimesh.Trimesh(V, F, visual=visual, vertex_attributes=data, process=False)
 
 
-def remesh_trimesh(mesh, faces=None, **options):
+def weld_seams(V, F, data):
+    """Vertices at the same position merged into one, as trimesh splits them along the
+    seams of a texture (a textured OBJ of a closed bunny loaded by trimesh has 179
+    boundary loops, 5 read by qcremesh).
+
+    Parameters
+    ----------
+    V : (n, 3) float
+    F : (m, 3) int
+    data : dict of str to (n, ...) array
+
+    Returns
+    -------
+    V : (k, 3) float
+    F : (m, 3) int64
+    data : dict
+        The arrays whose copies of each merged vertex agree (the texture coordinates along
+        the seams do not).
+    dropped : list of str
+        The names of the others.
+    """
+    unique, first, inverse = np.unique(V, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    if len(unique) == len(V):
+        return V, np.asarray(F, dtype=np.int64), data, []
+    kept, dropped = {}, []
+    for name, values in data.items():
+        values = np.asarray(values)
+        if np.array_equal(values, values[first][inverse]):
+            kept[name] = values[first]
+        else:
+            dropped.append(name)
+    return V[first], inverse[np.asarray(F)], kept, dropped
+
+
+def remesh_trimesh(mesh, faces=None, *, weld=True, **options):
     """:func:`qcremesh.remesh` of a :class:`trimesh.Trimesh`.
 
     Parameters
@@ -94,6 +133,11 @@ def remesh_trimesh(mesh, faces=None, **options):
     mesh : trimesh.Trimesh
     faces : int, optional
         Face count wanted (default: the input's).
+    weld : bool
+        Merge the vertices at the same position first (:func:`weld_seams`): trimesh
+        splits them along a texture's seams, which would stay boundaries of the remesh.
+        The per-vertex data that differ across a seam (the texture coordinates) are then
+        left out, with a warning; ``weld=False`` keeps the seams and the texture.
     **options
         The keyword arguments of :func:`qcremesh.remesh` (``seed``, ``levels``,
         ``sizing``, ``creases``, ...), but ``data``: the mesh's own is carried.
@@ -108,6 +152,15 @@ def remesh_trimesh(mesh, faces=None, **options):
     if "data" in options:
         raise TypeError("remesh_trimesh carries the mesh's own per-vertex data; data= is not taken")
     V, F, data = from_trimesh(mesh)
+    if weld:
+        V, F, data, dropped = weld_seams(V, F, data)
+        if dropped:
+            names = ", ".join(dropped)
+            warnings.warn(
+                f"remesh_trimesh merged the vertices at the same position (a texture's seams); {names} differ "
+                f"across them and are left out (weld=False keeps the seams, as boundaries, and {names})",
+                stacklevel=2,
+            )
     result = remesh(V, F, faces, data=data, **options)
     material = getattr(mesh.visual, "material", None) if UV in data else None
     out = to_trimesh(result.V, result.F, result.data, material=material)
