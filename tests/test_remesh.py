@@ -521,3 +521,26 @@ def test_two_triangles_that_share_one_corner_are_two_pieces():
     # a soup of faces sharing no vertex at all is still refused
     with pytest.raises(TopologyError, match="no two faces share a vertex: weld the coincident vertices first"):
         remesh(np.vstack([V[[0, 1, 2]], V[[0, 3, 4]]]), np.array([[0, 1, 2], [3, 4, 5]]), 100)
+
+
+def test_scattered_point_set_with_a_hole_gets_its_long_boundary_edges_cut():
+    """As a disk's, the long edges of a surface that is not one (a point set's hull around a
+    hole) are cut before it is cut open: a valid mesh (its caps repaired first) had min q
+    0.007 and mean 0.902 at 4,000 faces (0.647 and 0.967 so)."""
+    from scipy.spatial import Delaunay
+
+    from qcremesh.geometry.repair import repair_degenerate_faces
+
+    rng = np.random.default_rng(3)
+    P = rng.random((4000, 2)) * [3.0, 1.0]
+    t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    P = np.vstack([P[np.linalg.norm(P - [1.5, 0.5], axis=1) > 0.25], np.column_stack([1.5 + 0.25 * np.cos(t), 0.5 + 0.25 * np.sin(t)])])
+    F = Delaunay(P).simplices
+    F = F[np.linalg.norm(P[F].mean(1) - [1.5, 0.5], axis=1) > 0.25]
+    V, F = repair_degenerate_faces(np.column_stack([P, np.zeros(len(P))]), F)[:2]
+    check = mesh_quality(V, F)
+    assert check["boundary_loops"] == 2 and check["q_min"] > 1e-6  # valid as it is
+    r = remesh(V, F, 4000, seed=0)
+    assert r.stats["boundary_split_vertices"] > 100
+    q = mesh_quality(r.V, r.F, reference=(V, F))
+    assert q["boundary_loops"] == 2 and q["euler_characteristic"] == 0 and q["q_min"] > 0.5 and q["q_mean"] > 0.96

@@ -1159,6 +1159,9 @@ def remesh(
                 V, F, data, sizing = refined
                 dm = disk_conformal_map(V, F)
     except TopologyError:
+        refined = None if fixed_boundary else _refine_long_boundary(V, F, data, sizing, stats)
+        if refined is not None:
+            V, F, data, sizing = refined
         sizing = "curvature" if curvature else sizing
         result = _remesh_not_disk(
             V, F, faces, sizing, fixed_boundary, corners, boundary_edge_length, data, stats, options
