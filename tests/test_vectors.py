@@ -27,3 +27,11 @@ def test_norm_is_numpy_norm_to_the_last_bit():
         view = np.ascontiguousarray(a.transpose(2, 0, 1)).transpose(1, 2, 0)
         assert np.array_equal(norm(view), np.linalg.norm(view, axis=-1))
     np.testing.assert_array_equal(norm([[3.0, 4.0, 12.0], [np.inf, 0.0, 1.0]]), [13.0, np.inf])
+
+
+def test_aligned():
+    from qcremesh.geometry.vectors import aligned
+
+    a = np.array([[0.0, 0.0, 1.0]] * 4)
+    b = np.array([[0.0, 1e-7, 3.0], [0.0, 1e-5, 1.0], [0.0, 0.0, -1.0], [0.0, 0.0, 0.0]])
+    assert aligned(a, b, 1e-6).tolist() == [True, False, False, False]  # a zero vector points nowhere

@@ -24,6 +24,7 @@ import scipy.sparse as sp
 
 from ..mesh.topology import face_edge_lengths, twin_half_edges
 from .triangulation import best_ranked
+from .vectors import aligned
 
 __all__ = ["intrinsic_delaunay", "intrinsic_cotmatrix", "negative_cotangent_weights"]
 
@@ -160,11 +161,7 @@ def _flat_quads(V, F, h, t, tolerance):
     f1, k1, f2, k2 = h // 3, h % 3, t // 3, t % 3
     a, b, c = V[F[f1, k1]], V[F[f1, (k1 + 1) % 3]], V[F[f1, (k1 + 2) % 3]]
     d = V[F[f2, (k2 + 2) % 3]]
-    n1 = np.cross(b - a, c - a)
-    n2 = np.cross(a - b, d - b)
-    sine = np.linalg.norm(np.cross(n1, n2), axis=1)
-    cosine = np.einsum("ij,ij->i", n1, n2)
-    return (cosine > 0) & (sine <= tolerance * cosine)
+    return aligned(np.cross(b - a, c - a), np.cross(a - b, d - b), tolerance)
 
 
 def intrinsic_cotmatrix(F, lengths, n):

@@ -22,6 +22,7 @@ from scipy.spatial import cKDTree
 
 from ..mesh.topology import _edge_keys, boundary_edges, half_edges, vertex_face_incidence
 from .intrinsic import intrinsic_delaunay
+from .vectors import aligned
 
 __all__ = ["local_edge_length", "split_boundary_edges", "refine_boundary"]
 
@@ -155,7 +156,7 @@ def _flat_around(X, F, E):
     around = vertex_face_incidence(F, len(X))[F[face].ravel()].tocoo()
     owner = around.row // 3
     n1, n2 = normal[face[owner]], normal[around.col]
-    flat = np.linalg.norm(np.cross(n1, n2), axis=1) <= FLAT * np.einsum("ij,ij->i", n1, n2)
+    flat = aligned(n1, n2, FLAT)
     return np.bincount(owner, weights=~flat, minlength=len(E)) == 0
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["cross", "norm"]
+__all__ = ["cross", "norm", "aligned"]
 
 
 def cross(a, b):
@@ -62,3 +62,27 @@ def norm(a):
     for k in range(1, a.shape[-1]):
         out += a[..., k] * a[..., k]
     return np.sqrt(out)
+
+
+def aligned(a, b, tolerance):
+    """Whether each pair of vectors points the same way, within ``tolerance`` radians:
+    ``|a x b| <= tolerance (a . b)`` with ``a . b > 0`` (the normals of two faces that lie
+    in one plane, with the same orientation).
+
+    Parameters
+    ----------
+    a, b : (..., 3) float
+    tolerance : float
+
+    Returns
+    -------
+    (...) bool
+
+    Examples
+    --------
+    >>> aligned([[0.0, 0.0, 2.0], [0.0, 0.0, 1.0]], [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0]], 1e-6).tolist()
+    [True, False]
+    """
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    cosine = np.einsum("...i,...i->...", a, b)
+    return (cosine > 0) & (norm(cross(a, b)) <= tolerance * cosine)
