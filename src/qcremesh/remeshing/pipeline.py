@@ -314,20 +314,18 @@ def _refine_long_boundary(V, F, data, sizing, stats, loop=None):
     """The input with its boundary edges far longer than the edges around them cut into
     pieces, and its flat parts flipped to Delaunay
     (:func:`qcremesh.geometry.refine.refine_boundary`): vertices, faces, data and sizing
-    (interpolated along the edges; data in their types), or None where no edge is cut.
-    ``loop``, the boundary loop where known, spares finding the boundary edges."""
-    if loop is None:
-        B = boundary_edges(F)
-    else:
-        B = np.column_stack([loop, np.roll(loop, -1)])
+    (interpolated along the edges; data in their types), as they are where no edge is cut
+    (``boundary_split_vertices`` in ``stats`` says one was). ``loop``, the boundary loop
+    where known, spares finding the boundary edges."""
+    B = boundary_edges(F) if loop is None else np.column_stack([loop, np.roll(loop, -1)])
     if not len(B):
-        return None
+        return V, F, data, sizing
     longest = np.linalg.norm(V[B[:, 1]] - V[B[:, 0]], axis=1).max()
     if longest <= LONG_BOUNDARY_RATIO * np.median(np.linalg.norm(V[F[:, 1]] - V[F[:, 0]], axis=1)):
-        return None
+        return V, F, data, sizing
     F_new, along = refine_boundary(V, F, LONG_BOUNDARY_RATIO)
     if F_new is None:
-        return None
+        return V, F, data, sizing
     stats["boundary_split_vertices"] = along.shape[0] - len(V)
 
     def carried(values):
@@ -1149,19 +1147,18 @@ def remesh(
             if corners is not None:
                 corners = _renumbered(corners, kept)
             # (before the map: the caps that no flip mends can be those along such edges)
-            refined = None if fixed_boundary else _refine_long_boundary(V, F, data, sizing, stats)
-            if refined is not None:
-                V, F, data, sizing = refined
+            if not fixed_boundary:
+                V, F, data, sizing = _refine_long_boundary(V, F, data, sizing, stats)
             dm = disk_conformal_map(V, F)
         else:
-            refined = None if fixed_boundary else _refine_long_boundary(V, F, data, sizing, stats, dm.boundary)
-            if refined is not None:
-                V, F, data, sizing = refined
-                dm = disk_conformal_map(V, F)
+            if not fixed_boundary:
+                V, F, data, sizing = _refine_long_boundary(V, F, data, sizing, stats, dm.boundary)
+                if "boundary_split_vertices" in stats:
+                    dm = disk_conformal_map(V, F)
     except TopologyError:
-        refined = None if fixed_boundary else _refine_long_boundary(V, F, data, sizing, stats)
-        if refined is not None:
-            V, F, data, sizing = refined
+        # (a surface that is not a disk, whose repair did not cut them already)
+        if not fixed_boundary and "boundary_split_vertices" not in stats:
+            V, F, data, sizing = _refine_long_boundary(V, F, data, sizing, stats)
         sizing = "curvature" if curvature else sizing
         result = _remesh_not_disk(
             V, F, faces, sizing, fixed_boundary, corners, boundary_edge_length, data, stats, options
