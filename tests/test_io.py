@@ -272,6 +272,15 @@ def test_read_errors(tmp_path):
     junk.write_text("not a ply file\n")
     with pytest.raises(MeshReadError, match="cannot read"):
         read_mesh(junk)
+    # meshio refuses VTK's polygonal data by printing why and exiting: the reason is kept
+    polydata = tmp_path / "tri.vtk"
+    polydata.write_text(
+        "# vtk DataFile Version 4.2\nvtk output\nASCII\nDATASET POLYDATA\nPOINTS 3 double\n"
+        "0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 2\n"
+    )
+    with pytest.raises(MeshReadError, match=r"^" + str(polydata) + r": cannot read \(Only VTK 'UNSTRUCTURED_GRID', "
+                       r"'STRUCTURED_POINTS', 'STRUCTURED_GRID', 'RECTILINEAR_GRID' supported \(not POLYDATA\)\.\)$"):
+        read_mesh(polydata)
 
 
 def test_read_mat():

@@ -93,11 +93,15 @@ def _read_meshio(path):
 
     # meshio prints its parsers' complaints (and numpy overflow warnings on odd STL
     # headers) besides raising: the exception alone reaches the caller.
+    said = io.StringIO()
     try:
-        with redirect_stdout(io.StringIO()), redirect_stderr(io.StringIO()), np.errstate(all="ignore"):
+        with redirect_stdout(said), redirect_stderr(said), np.errstate(all="ignore"):
             m = meshio.read(path)
     except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
-        raise MeshReadError(f"{path}: cannot read ({exc})") from exc
+        # (a SystemExit carries only a status; what went wrong is what meshio printed)
+        printed = [line.strip() for line in said.getvalue().splitlines() if line.strip()]
+        detail = printed[0] if isinstance(exc, SystemExit) and printed else exc
+        raise MeshReadError(f"{path}: cannot read ({detail})") from exc
     other = {c.type for c in m.cells} - {"triangle", "quad", "polygon", "vertex", "line"}
     if other:
         raise MeshReadError(f"{path}: not a triangle mesh (has {', '.join(sorted(other))} cells)")
