@@ -277,7 +277,9 @@ def cut_to_disk(V, F, n=None):
       handles' cut made), one shortest edge path from each to the longest, through
       interior vertices that no other cut takes;
     * a closed surface of genus 0: the shortest edge path between its two vertices
-      farthest apart along its principal axis (a slit).
+      farthest apart along its principal axis (a slit); where that is one edge (a cube
+      of 12 faces), the two edges through the third corner of a face beside it instead,
+      as a slit along one edge does not open the surface.
 
     Parameters
     ----------
@@ -314,7 +316,11 @@ def cut_to_disk(V, F, n=None):
         centred = V - V.mean(0)
         axis = np.linalg.svd(centred[:: max(1, n // 20000)], full_matrices=False)[2][0]
         along = centred @ axis
-        paths = [shortest_edge_path(V, F, int(np.argmin(along)), int(np.argmax(along)))]
+        path = shortest_edge_path(V, F, int(np.argmin(along)), int(np.argmax(along)))
+        if len(path) == 2:
+            beside = F[np.flatnonzero(np.isin(F, path).sum(1) == 2)[0]]
+            path = np.array([path[0], beside[~np.isin(beside, path)][0], path[1]])
+        paths = [path]
     else:
         paths = _paths_between_loops(V[parent], F_cut, len(parent), loops)
     more = np.concatenate([np.column_stack([p[:-1], p[1:]]) for p in paths]) if paths else np.zeros((0, 2), int)
