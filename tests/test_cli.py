@@ -200,6 +200,18 @@ def test_remesh_cli_repairs_zero_area_faces(tmp_path, capsys):
     assert "repaired the input first: 4 needles (an edge of zero length) merged, 0 caps" in out
 
 
+def test_remesh_cli_detaches_a_fin(tmp_path, capsys):
+    """A triangle standing on an interior edge of a grid: remesh detaches it and says so."""
+    uv, F = grid_disk(12)
+    a, b = F[np.argmin(np.linalg.norm(uv[F].mean(1) - 0.5, axis=1)), :2]
+    V = np.r_[np.column_stack([uv, np.zeros(len(uv))]), [[*(uv[a] + uv[b]) / 2, 0.1]]]
+    path = tmp_path / "fin.obj"
+    write_mesh(path, V, np.r_[F, [[a, b, len(uv)]]])
+    assert main(["remesh", str(path), "-o", str(tmp_path / "r.obj"), "--faces", "400"]) == 0
+    out = capsys.readouterr().out
+    assert "repaired the input first: 1 edges of more than two faces: the sheets beyond the flattest two detached" in out
+
+
 def test_remesh_cli_orients_the_input_and_warns_of_no_fold(tmp_path, capsys):
     """fran_cut with a fifth of its faces reversed: remesh turns them back, says so, and
     does not take the reversed faces for folds of the surface."""

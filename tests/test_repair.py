@@ -5,7 +5,14 @@ from conftest import grid_disk, split_vertex
 from qcremesh.geometry.operators import doublearea
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
 from qcremesh.geometry.repair import repair_degenerate_faces
-from qcremesh.mesh.topology import boundary_loop, boundary_loops, needles_and_caps, nonmanifold_vertices
+from qcremesh.geometry.distance import point_mesh_distance
+from qcremesh.mesh.topology import (
+    boundary_loop,
+    boundary_loops,
+    needles_and_caps,
+    nonmanifold_edges,
+    nonmanifold_vertices,
+)
 from qcremesh.mesh.validate import (
     DegenerateFaceError,
     NonManifoldError,
@@ -141,3 +148,28 @@ def test_remesh_splits_vertices_where_sheets_touch():
     assert r.stats["split_vertices"] == 1 and r.stats["pieces"] == 2
     assert not len(nonmanifold_vertices(r.F)) and len(boundary_loops(r.F)) == 2
     assert radius_ratio(r.V, r.F).mean() > 0.96
+
+
+def test_remesh_detaches_a_fin_on_an_edge_of_three_faces():
+    """A triangle standing on an interior edge of a bent grid (an edge of three faces,
+    which the validation refuses; CAD exports and pyvista's airplane.ply have them): the
+    remesh detaches it there and remeshes the grid and the fin as two pieces. Where the
+    fin meets the others again around both ends of the edge, the validation's error stands."""
+    uv, G = grid_disk(16, jitter=0.3)
+    V = np.column_stack([uv, 0.2 * np.sin(3 * uv[:, 0])])
+    a, b = G[np.argmin(np.linalg.norm(uv[G].mean(1) - 0.5, axis=1)), :2]
+    W = np.r_[V, [(V[a] + V[b]) / 2 + [0, 0, 0.1]]]
+    F = np.r_[G, [[a, b, len(V)]]]
+    with pytest.raises(NonManifoldError, match=f"^1 non-manifold edge at vertices {min(a, b)}-{max(a, b)}$"):
+        check_triangle_mesh(W, F)
+    r = remesh(W, F, 800)
+    assert r.stats["split_edges"] == 1 and r.stats["pieces"] == 2
+    assert not len(nonmanifold_edges(r.F)) and not len(nonmanifold_vertices(r.F))
+    assert len(boundary_loops(r.F)) == 2
+    assert point_mesh_distance(r.V, W, F)[0].max() < 1e-9
+    assert radius_ratio(r.V, r.F).mean() > 0.96
+    # a fin whose faces close around a face below it, joined to it at both ends of the edge
+    V = np.array([[0, 0, 0], [1, 0, 0], [0.5, 1, 0], [0.5, -1, 0], [0.5, 0, 1]], dtype=float)
+    with pytest.raises(NonManifoldError, match="^1 non-manifold edge at vertices 0-1$"):
+        remesh(V, np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4], [4, 0, 3], [1, 4, 3]]), 100)
+

@@ -64,6 +64,29 @@ def test_split_nonmanifold_vertices_gives_each_fan_a_vertex():
     assert t.connected_components(S)[0] == 2 and t.connected_components(F)[0] == 1
 
 
+def test_split_nonmanifold_edges_detaches_the_sheet_that_turns_most():
+    """Three faces on edge 0-1: the two in the plane, which traverse it in opposite
+    directions, stay joined; the fin above them comes off with copies of 0 and 1. Where
+    the fin meets the others again around both ends, the edge stays non-manifold."""
+    V = np.array([[0, 0, 0], [1, 0, 0], [0.5, 1, 0], [0.5, -1, 0], [0.5, 0, 1]], dtype=float)
+    F = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])
+    S, parent = t.split_nonmanifold_edges(V, F)
+    np.testing.assert_array_equal(parent, [0, 0, 1, 1, 2, 3, 4])
+    np.testing.assert_array_equal(parent[S], F)
+    np.testing.assert_array_equal(S, [[0, 2, 4], [2, 0, 5], [1, 3, 6]])
+    assert not len(t.nonmanifold_edges(S)) and t.connected_components(S)[0] == 2
+    # two faces could join the first: the one nearer its plane does
+    below, flat = [[1, 0, 3], [1, 0, 4]], [0.5, -1, 0.1]
+    for W, detached in ((np.r_[V[:3], [[0.5, -0.2, -1], flat]], 1), (np.r_[V[:3], [flat, [0.5, -0.2, -1]]], 2)):
+        S, parent = t.split_nonmanifold_edges(W, np.r_[[[0, 1, 2]], below])
+        assert t.connected_components(S)[0] == 2 and not len(t.nonmanifold_edges(S))
+        assert not np.isin(S[detached], S[[0, 3 - detached]]).any()
+    closed = np.r_[F, [[4, 0, 3], [1, 4, 3]]]
+    S, parent = t.split_nonmanifold_edges(V, closed)
+    np.testing.assert_array_equal(S, closed)
+    np.testing.assert_array_equal(t.nonmanifold_edges(S), [[0, 1]])
+
+
 def test_orientation_unreferenced_degenerate():
     F = np.array([[0, 1, 2], [1, 2, 3]])
     np.testing.assert_array_equal(t.inconsistent_edges(F), [[1, 2]])

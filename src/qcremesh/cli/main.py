@@ -284,6 +284,8 @@ def _remesh(args, out):
         mended.append(f"{st['duplicate_faces']} faces listed more than once kept once")
     if "unreferenced_vertices" in st:
         mended.append(f"{st['unreferenced_vertices']} vertices no face uses dropped")
+    if "split_edges" in st:
+        mended.append(f"{st['split_edges']} edges of more than two faces: the sheets beyond the flattest two detached")
     if "split_vertices" in st:
         mended.append(f"{st['split_vertices']} vertices where sheets touch split, one per sheet")
     if "reoriented_faces" in st:

@@ -25,6 +25,7 @@ __all__ = [
     "nonmanifold_edges",
     "nonmanifold_vertices",
     "corner_fans",
+    "split_nonmanifold_edges",
     "split_nonmanifold_vertices",
     "inconsistent_edges",
     "orient_faces",
@@ -368,11 +369,65 @@ def split_nonmanifold_vertices(F):
         The vertex of the input each new vertex copies (sorted; vertices no face uses
         have none).
     """
-    F = np.asarray(F, dtype=np.int64)
+    return _split_fans(np.asarray(F, dtype=np.int64))
+
+
+def _split_fans(F, twins=None):
+    """A vertex per fan of :func:`corner_fans` (F, twins): (F, parent)."""
     m = len(F)
-    _, fan = corner_fans(F)
+    _, fan = corner_fans(F, twins)
     keys, corner = np.unique(F.T.ravel() * (3 * m) + fan, return_inverse=True)
     return corner.reshape(3, m).T.astype(np.int64), keys // (3 * m)
+
+
+def split_nonmanifold_edges(V, F):
+    """Detach the sheets of faces that meet at an edge of more than two faces.
+
+    At each such edge the two faces that traverse it in opposite directions and turn the
+    least from each other (the largest dot product of their unit normals) stay joined;
+    then each fan of faces around a vertex, its faces linked across those pairs and the
+    edges of two faces, gets a vertex of its own (the surface does not move). A fin on a
+    surface comes off it along the edge. Where the other sheets meet the joined pair
+    again around an end of the edge (one fan through them), the edge stays non-manifold.
+
+    Returns
+    -------
+    F : (m, 3) int64
+    parent : (n',) int64
+        As :func:`split_nonmanifold_vertices` (which this also does).
+    """
+    V = np.asarray(V, dtype=np.float64)
+    F = np.asarray(F, dtype=np.int64)
+    m = len(F)
+    H = half_edges(F)
+    key = _edge_keys(H, int(F.max()) + 1)
+    order = np.argsort(key, kind="stable")
+    start = np.flatnonzero(np.r_[True, key[order][1:] != key[order][:-1]])
+    size = np.diff(np.r_[start, len(key)])
+    pairs = [(order[start[size == 2]], order[start[size == 2] + 1])]
+    # every two half-edges of each edge of more faces, the best of them per edge
+    group_start, group_size = start[size > 2], size[size > 2]
+    member_group = np.repeat(np.arange(len(group_size)), group_size)
+    member = _ranges(group_start, group_size)
+    partner_group = np.repeat(member_group, group_size[member_group])
+    first = np.repeat(member, group_size[member_group])
+    second = _ranges(group_start[member_group], group_size[member_group])
+    keep = first < second
+    group, a, b = partner_group[keep], order[first[keep]], order[second[keep]]
+    normal = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+    score = np.where(H[a, 0] == H[b, 1], (normal[a % m] * normal[b % m]).sum(1), -np.inf)
+    best = np.lexsort((-score, group))
+    best = best[np.r_[True, group[best][1:] != group[best][:-1]]]
+    best = best[np.isfinite(score[best])]
+    pairs.append((a[best], b[best]))
+    return _split_fans(F, tuple(np.concatenate(side) for side in zip(*pairs)))
+
+
+def _ranges(start, count):
+    """start[k], start[k] + 1, ..., start[k] + count[k] - 1 for every k, concatenated."""
+    offset = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+    return np.repeat(start, count) + offset
 
 
 def inconsistent_edges(F, twins=None):

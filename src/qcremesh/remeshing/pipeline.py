@@ -97,6 +97,7 @@ from ..mesh.topology import (
     nonmanifold_edges,
     nonmanifold_vertices,
     orient_faces,
+    split_nonmanifold_edges,
     split_nonmanifold_vertices,
     unreferenced_vertices,
 )
@@ -350,15 +351,18 @@ def _refine_long_boundary(V, F, data, sizing, stats, loop=None):
 def _repair(V, F, data, sizing, stats):
     """The input made acceptable to the disk map where the validation refused it for
     what can be mended without moving the surface (more than 1e-3 of an edge): faces
-    listed more than once are kept once, vertices no face uses dropped, vertices where
-    two sheets touch split into one per sheet
+    listed more than once are kept once, vertices no face uses dropped, sheets of faces
+    that meet at an edge of more than two faces detached there
+    (:func:`qcremesh.mesh.topology.split_nonmanifold_edges`) and vertices where two
+    sheets touch split into one per sheet
     (:func:`qcremesh.mesh.topology.split_nonmanifold_vertices`), faces turned against
     their neighbours reversed (:func:`qcremesh.mesh.topology.orient_faces`, the
     majority's orientation kept), needles merged and caps flipped away
     (:func:`qcremesh.geometry.repair.repair_degenerate_faces`). Returns the new vertices,
     faces, per-vertex data and sizing field (of the vertices kept) and the input vertex
     each vertex is, counting what was done in ``stats``; None where nothing applies or
-    another defect stands first (non-manifold edges), which the validation then names."""
+    a defect stands that this does not mend (an edge whose sheets meet again around its
+    ends), which the validation then names."""
     n = len(V)
     repaired = False
     kept = np.arange(n)
@@ -367,8 +371,6 @@ def _repair(V, F, data, sizing, stats):
         F = np.delete(F, repeated, axis=0)
         stats["duplicate_faces"] = len(repeated)
         repaired = True
-    if len(nonmanifold_edges(F)):
-        return None
     unused = unreferenced_vertices(F, n)
     if len(unused):
         used = np.ones(n, dtype=bool)
@@ -376,6 +378,14 @@ def _repair(V, F, data, sizing, stats):
         kept = np.flatnonzero(used)
         V, F = V[kept], (np.cumsum(used) - 1)[F]
         stats["unreferenced_vertices"] = len(unused)
+        repaired = True
+    shared = nonmanifold_edges(F)
+    if len(shared):
+        F, copied = split_nonmanifold_edges(V, F)
+        if len(nonmanifold_edges(F)):
+            return None
+        V, kept = V[copied], kept[copied]
+        stats["split_edges"] = len(shared)
         repaired = True
     pinched = nonmanifold_vertices(F)
     if len(pinched):
