@@ -78,6 +78,22 @@ def test_boundary_landmarks_uniform_in_arc_length():
         assert np.min(np.linalg.norm(X[:, :2] - c, axis=1)) < 1e-12
 
 
+def test_boundary_landmarks_leave_no_gap_wider_than_a_quarter_turn():
+    """The same square, its first side stretched over most of the circle: the 4 corners
+    (the landmarks asked for) leave a gap of 300 degrees, which gets 3 more landmarks,
+    evenly spaced in angle."""
+    t = np.linspace(0, 4, 41)[:-1]
+    side, f = np.divmod(t, 1)
+    corners = np.array([[0, 0], [1, 0], [1, 1], [0, 1]])
+    P = corners[side.astype(int)] + f[:, None] * (corners[(side.astype(int) + 1) % 4] - corners[side.astype(int)])
+    V = np.column_stack([P, np.zeros(40)])
+    theta = np.r_[np.linspace(0, np.radians(300), 11)[:-1], np.linspace(np.radians(300), 2 * np.pi, 31)[:-1]]
+    uv = np.column_stack([np.cos(theta), np.sin(theta)])
+    th, is_corner = boundary_landmarks(V, uv, np.arange(40), 4)
+    np.testing.assert_allclose(th, np.radians([0, 75, 150, 225, 300, 320, 340]), atol=1e-12)
+    np.testing.assert_array_equal(is_corner, [1, 0, 0, 0, 1, 1, 1])
+
+
 def test_cvt_landmarks_are_uniform_on_surface(face):
     """A CVT with weight rho^2 spreads landmarks uniformly on the surface; with weight rho
     (Eq. 21 as printed) they are markedly less uniform."""

@@ -44,6 +44,12 @@ __all__ = [
 # many generators nearest in the disk.
 SURFACE_CELL_CANDIDATES = 16
 
+# Largest angle between two boundary landmarks on the circle; wider gaps get landmarks
+# evenly spaced in angle (a piece of 36 faces of pyvista's ant.ply, 8 boundary vertices, at
+# 28 faces had a gap of 210 degrees, and the subdivision of its chord put the new boundary
+# vertices on the far side of the circle).
+MAX_LANDMARK_GAP = np.pi / 2
+
 # The compiled owner test of Lloyd's iteration (_nearest) compares each sample's distance
 # to its previous owner with that to this many generators nearest to the owner.
 NEIGHBOURS = 8
@@ -231,7 +237,9 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     two sides of a cut) get the same landmarks. With a ``spacing``, each piece gets its
     length over the spacing, rounded, instead of its share of ``count``: two boundaries
     that share a polyline between corners (two meshes remeshed apart and joined along
-    it) get the same landmarks there.
+    it) get the same landmarks there. Where two landmarks are more than
+    ``MAX_LANDMARK_GAP`` apart on the circle, landmarks evenly spaced in angle are added
+    between them.
 
     Parameters
     ----------
@@ -295,8 +303,20 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     i = np.clip(np.searchsorted(sigma, arc, side="right") - 1, 0, len(bnd) - 1)
     frac = (arc - sigma[i]) / np.diff(sigma)[i]
     theta = t[i] + frac * (t[i + 1] - t[i])
+    is_corner = (rank == 0) & (len(corners) > 0)
+    # No two landmarks more than a quarter turn apart (a few landmarks on a map that
+    # stretches part of the boundary): the base mesh's boundary edges are chords of the
+    # circle, whose subdivision takes their midpoints out onto it.
+    rel = np.sort(np.mod(theta - theta_b[0], 2 * np.pi))
+    gap = np.diff(np.r_[rel, rel[0] + 2 * np.pi])
+    extra = np.ceil(gap / MAX_LANDMARK_GAP - 1e-9).astype(int) - 1
+    if extra.any():
+        at = np.repeat(np.arange(len(rel)), extra)
+        step = np.arange(extra.sum()) - np.repeat(np.cumsum(extra) - extra, extra) + 1
+        theta = np.r_[theta, theta_b[0] + rel[at] + gap[at] * step / (extra[at] + 1)]
+        is_corner = np.r_[is_corner, np.zeros(len(at), dtype=bool)]
     order = np.argsort(np.mod(theta - theta_b[0], 2 * np.pi), kind="stable")
-    return theta[order], (rank == 0)[order] & (len(corners) > 0)
+    return theta[order], is_corner[order]
 
 
 def _nearest_in_space(positions, candidates, generator_positions):
