@@ -149,10 +149,13 @@ def boundary_corners(V, bnd, angle=45.0, scale=None, pieces=None, density=None):
         cos = (a * b).sum(1) / np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
         return np.degrees(np.arccos(np.clip(cos, -1, 1)))
 
-    turn = turning(scale)
+    # (to 1e-6 degree, as the order below: the two sides of a cut turn by the same angle up
+    # to rounding, which a regular polygon's turn at the threshold, a torus's inner
+    # equator of 8 edges cut open, fell on either side of)
+    turn = np.round(turning(scale), 6)
     sharp = turn > angle
     if scale is not None:
-        sharp &= turning(scale / 4) > angle
+        sharp &= np.round(turning(scale / 4), 6) > angle
     candidates = np.flatnonzero(sharp)
     if scale is None or len(candidates) < 2:
         return candidates
@@ -160,7 +163,7 @@ def boundary_corners(V, bnd, angle=45.0, scale=None, pieces=None, density=None):
     # Sharpest first; equal turns (to 1e-6 degree) in the order of their points, so that
     # the two sides of a cut, which run along it in opposite directions, keep the same
     # one of two corners closer than scale / 2 (featuretype.STL's seams did not weld).
-    order = np.lexsort((P[candidates, 2], P[candidates, 1], P[candidates, 0], -np.round(turn[candidates], 6)))
+    order = np.lexsort((P[candidates, 2], P[candidates, 1], P[candidates, 0], -turn[candidates]))
     for c in candidates[order]:
         gap = np.abs(s[c] - s[kept])
         if np.all(np.minimum(gap, perimeter - gap) >= scale / 2):
@@ -266,7 +269,8 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     Returns
     -------
     theta : (k,) float
-        Increasing angles of the landmarks on the circle.
+        Increasing angles of the landmarks on the circle, within one turn from the angle
+        of ``bnd[0]``.
     is_corner : (k,) bool
     """
     theta_b = boundary_angles(uv, bnd)
@@ -303,6 +307,9 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     i = np.clip(np.searchsorted(sigma, arc, side="right") - 1, 0, len(bnd) - 1)
     frac = (arc - sigma[i]) / np.diff(sigma)[i]
     theta = t[i] + frac * (t[i + 1] - t[i])
+    # within one turn from theta_b[0]: a landmark at its end is at its start (it came
+    # first, 2 pi above the next, and the base mesh's sectors were then out of order)
+    theta = np.where(theta >= t[-1], theta - 2 * np.pi, theta)
     is_corner = (rank == 0) & (len(corners) > 0)
     # No two landmarks more than a quarter turn apart (a few landmarks on a map that
     # stretches part of the boundary): the base mesh's boundary edges are chords of the
@@ -313,7 +320,7 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     if extra.any():
         at = np.repeat(np.arange(len(rel)), extra)
         step = np.arange(extra.sum()) - np.repeat(np.cumsum(extra) - extra, extra) + 1
-        theta = np.r_[theta, theta_b[0] + rel[at] + gap[at] * step / (extra[at] + 1)]
+        theta = np.r_[theta, theta_b[0] + np.mod(rel[at] + gap[at] * step / (extra[at] + 1), 2 * np.pi)]
         is_corner = np.r_[is_corner, np.zeros(len(at), dtype=bool)]
     order = np.argsort(np.mod(theta - theta_b[0], 2 * np.pi), kind="stable")
     return theta[order], is_corner[order]
