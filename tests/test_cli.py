@@ -212,6 +212,18 @@ def test_remesh_cli_detaches_a_fin(tmp_path, capsys):
     assert "repaired the input first: 1 edges of more than two faces: the sheets beyond the flattest two detached" in out
 
 
+def test_remesh_cli_warns_of_a_face_count_far_from_the_asked(tmp_path, capsys):
+    """Ten squares of two triangles apart at 20 faces: each piece takes at least 4."""
+    square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=float)
+    path = tmp_path / "squares.obj"
+    write_mesh(path, np.concatenate([square + [3 * i, 0, 0] for i in range(10)]),
+               np.concatenate([np.array([[0, 1, 2], [0, 2, 3]]) + 4 * i for i in range(10)]))
+    assert main(["remesh", str(path), "-o", str(tmp_path / "r.obj"), "--faces", "20"]) == 0
+    assert "qcremesh: warning: 30 faces, 50 % off the 20 asked for" in capsys.readouterr().err
+    assert main(["remesh", str(path), "-o", str(tmp_path / "r.obj"), "--faces", "200"]) == 0
+    assert "asked for" not in capsys.readouterr().err
+
+
 def test_remesh_cli_orients_the_input_and_warns_of_no_fold(tmp_path, capsys):
     """fran_cut with a fifth of its faces reversed: remesh turns them back, says so, and
     does not take the reversed faces for folds of the surface."""

@@ -53,6 +53,12 @@ class CommandError(Exception):
 CROWDED_BOUNDARY_SHARE = 0.2
 
 
+# `remesh` warns where the output's face count is further than this share (and 8 faces)
+# from the count asked for (the tolerance): pieces take at least 4 faces each (ten
+# squares of two triangles, apart, at 20 faces: 30).
+FACE_COUNT_SLACK = 0.05
+
+
 # Both commands warn where more than this share of the input's interior edges turn by
 # more than 170 degrees (a surface that overlaps itself; human_face.obj: 0.004 %).
 FOLDOVER_SHARE = 0.01
@@ -302,6 +308,13 @@ def _remesh(args, out):
             f"boundary edges more than {LONG_BOUNDARY_RATIO:g} times as long as the edges around them (a triangulated "
             f"point set's hull) cut into pieces first: {st['boundary_split_vertices']:,} vertices added on them",
             file=out,
+        )
+    asked = len(F) if args.faces is None else args.faces
+    if abs(len(result.F) - asked) > max(FACE_COUNT_SLACK * asked, 8):
+        print(
+            f"qcremesh: warning: {len(result.F):,} faces, {100 * abs(len(result.F) - asked) / asked:.0f} % off the "
+            f"{asked:,} asked for",
+            file=sys.stderr,
         )
     if "pieces" in st:
         faces = ", ".join(f"{f:,}" for f in st["piece_faces"])

@@ -950,9 +950,10 @@ def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, boundary_edge
     if genus(F, len(V)) is None:
         return None
     if strip:
-        # and until it has a quarter of the faces asked for: the disk map of a few large
-        # triangles is far from conformal (a 3:1 rectangle of two triangles split once, 8
-        # faces: mean q 0.85-0.86 at 200 and 2,000 faces; 0.95 / 0.98 from 128 / 512)
+        # until it has an interior vertex, and a quarter of the faces asked for: the disk
+        # map of a few large triangles is far from conformal (a 3:1 rectangle of two
+        # triangles split once, 8 faces: mean q 0.85-0.86 at 200 and 2,000 faces; 0.95 /
+        # 0.98 from 128 / 512)
         V_fine, F_fine, fine_data, fine_sizing = _upsampled(
             V, F, data, sizing, lambda G: len(boundary_loop(G)) < len(np.unique(G)) and 4 * len(G) >= faces
         )
