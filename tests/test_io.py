@@ -1,5 +1,7 @@
+import importlib.util
 import os
 import stat
+from importlib.util import find_spec
 
 import numpy as np
 import pytest
@@ -272,15 +274,42 @@ def test_read_errors(tmp_path):
     junk.write_text("not a ply file\n")
     with pytest.raises(MeshReadError, match="cannot read"):
         read_mesh(junk)
-    # meshio refuses VTK's polygonal data by printing why and exiting: the reason is kept
+
+
+def test_vtk_polygonal_data_through_pyvista(tmp_path, monkeypatch):
+    """Legacy VTK files of POLYDATA (which meshio refuses, printing why and exiting) and
+    .vtp files are read through pyvista, and .vtp written through it, texture coordinates
+    as its active ones, data in their types, the same bytes each time; without pyvista,
+    meshio's reason is kept and .vtp is refused before any work."""
+    pytest.importorskip("pyvista")
     polydata = tmp_path / "tri.vtk"
     polydata.write_text(
-        "# vtk DataFile Version 4.2\nvtk output\nASCII\nDATASET POLYDATA\nPOINTS 3 double\n"
-        "0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 2\n"
+        "# vtk DataFile Version 4.2\nvtk output\nASCII\nDATASET POLYDATA\nPOINTS 4 double\n"
+        "0 0 0 1 0 0 1 1 0 0 1 0\nPOLYGONS 1 5\n4 0 1 2 3\n"
     )
+    V, F = read_mesh(polydata)
+    np.testing.assert_array_equal(V[:, :2], [[0, 0], [1, 0], [1, 1], [0, 1]])
+    assert len(F) == 2
+    uv, G = grid_disk(6)
+    X = np.column_stack([uv, uv[:, 0] * uv[:, 1]])
+    data = {"height": X[:, 2], "label": np.arange(len(X), dtype=np.uint8)}
+    path = tmp_path / "grid.vtp"
+    write_mesh(path, X, G, uv=uv[:, ::-1], data=data)
+    first = path.read_bytes()
+    W, H, back = read_mesh(path, return_data=True)
+    np.testing.assert_array_equal(W, X)
+    np.testing.assert_array_equal(H, G)
+    np.testing.assert_array_equal(back["uv"], uv[:, ::-1])
+    assert back["label"].dtype == np.uint8 and np.array_equal(back["label"], data["label"])
+    write_mesh(path, X, G, uv=uv[:, ::-1], data=data)
+    assert path.read_bytes() == first
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "pyvista" else find_spec(name))
     with pytest.raises(MeshReadError, match=r"^" + str(polydata) + r": cannot read \(Only VTK 'UNSTRUCTURED_GRID', "
                        r"'STRUCTURED_POINTS', 'STRUCTURED_GRID', 'RECTILINEAR_GRID' supported \(not POLYDATA\)\.\)$"):
         read_mesh(polydata)
+    with pytest.raises(ValueError, match="^cannot write .vtp files without pyvista: pip install pyvista$"):
+        write_mesh(tmp_path / "no.vtp", X, G)
+    assert not (tmp_path / "no.vtp").exists()
 
 
 def test_read_mat():

@@ -8,17 +8,17 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..mesh.polydata import arrays_to_polydata, polydata_to_arrays
 from ..remeshing.pipeline import remesh
 from . import require
 
 __all__ = ["from_pyvista", "to_pyvista", "remesh_pyvista"]
 
 
-
 def from_pyvista(mesh):
-    """The arrays of a :class:`pyvista.PolyData`'s faces; polygons of more than three
-    corners are triangulated first (:meth:`pyvista.PolyData.triangulate`), lines and
-    vertex cells left out.
+    """The arrays of a :class:`pyvista.PolyData`'s faces
+    (:func:`qcremesh.mesh.polydata.polydata_to_arrays`: polygons of more than three
+    corners triangulated first, lines and vertex cells left out).
 
     Parameters
     ----------
@@ -39,27 +39,7 @@ def from_pyvista(mesh):
     ValueError
         It has no faces.
     """
-    pv = require("pyvista")
-    if not isinstance(mesh, pv.PolyData):
-        hint = ": mesh.extract_surface() gives its surface" if isinstance(mesh, pv.DataSet) else ""
-        raise TypeError(f"expected a pyvista.PolyData, got {type(mesh).__name__}{hint}")
-    if mesh.faces.size == 0 and mesh.n_strips == 0:
-        raise ValueError("the PolyData has no faces (polygons or triangle strips)")
-    if not mesh.is_all_triangles or mesh.n_strips:
-        mesh = mesh.triangulate()  # (the faces below are its polygons: lines and vertices left out)
-    V = np.array(mesh.points, dtype=np.float64)
-    F = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 4)[:, 1:].copy()
-    return V, F, _point_arrays(mesh)
-
-
-def _point_arrays(mesh):
-    """Numeric point data of ``mesh``, by name."""
-    out = {}
-    for name in mesh.point_data.keys():
-        values = np.asarray(mesh.point_data[name])
-        if values.dtype.kind in "biuf" and len(values) == mesh.n_points:
-            out[name] = values
-    return out
+    return polydata_to_arrays(mesh, require("pyvista"))
 
 
 def to_pyvista(V, F, data=None):
@@ -76,13 +56,7 @@ def to_pyvista(V, F, data=None):
     -------
     pyvista.PolyData
     """
-    pv = require("pyvista")
-    F = np.asarray(F, dtype=np.int64)
-    cells = np.column_stack([np.full(len(F), 3, dtype=np.int64), F]).ravel()
-    out = pv.PolyData(np.asarray(V, dtype=np.float64), faces=cells)
-    for name, values in (data or {}).items():
-        out.point_data[name] = values
-    return out
+    return arrays_to_polydata(V, F, data, require("pyvista"))
 
 
 def remesh_pyvista(mesh, faces=None, **options):

@@ -10,12 +10,15 @@ bytes (200 read as -56) and refuses ``char``, ``short`` and ``ushort`` ones and 
 other than vertices and faces (a range map's ``camera``), and its writer puts the time of
 day in the header. MATLAB ``.mat`` files with variables ``v`` and ``f``
 (1-based), as distributed with the public quasi-conformal codes, are read through
-:func:`scipy.io.loadmat`. Every other format goes through meshio (STL, VTK/VTU, ...).
-Quads are split along their shorter diagonal, larger convex polygons into fans.
+:func:`scipy.io.loadmat`. VTK's polygonal data (.vtp, and legacy .vtk files of
+POLYDATA, which meshio does not read) goes through pyvista where it is installed. Every
+other format goes through meshio (STL, VTK/VTU unstructured grids, ...). Quads are split
+along their shorter diagonal, larger convex polygons into fans.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import io
 import os
 import tempfile
@@ -24,6 +27,8 @@ from contextlib import contextmanager, redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import numpy as np
+
+from .polydata import arrays_to_polydata, polydata_to_arrays
 
 __all__ = ["MeshReadError", "read_mesh", "write_mesh", "check_writable", "atomic_output"]
 
@@ -71,6 +76,10 @@ def read_mesh(path, *, return_data=False):
         V, F, data = _read_off(path)
     elif suffix == ".ply":
         V, F, data = _read_ply(path)
+    elif suffix == ".vtp":
+        V, F, data = _read_polydata(path)
+    elif suffix == ".vtk":
+        V, F, data = _read_vtk(path)
     else:
         V, F, data = _read_meshio(path)
     V = np.ascontiguousarray(V, dtype=np.float64)
@@ -86,6 +95,44 @@ def read_mesh(path, *, return_data=False):
     if not np.all(np.isfinite(V)):
         raise MeshReadError(f"{path}: non-finite vertex coordinates")
     return (V, F, data) if return_data else (V, F)
+
+
+def _read_vtk(path):
+    """A legacy VTK file: through meshio (unstructured grids), else through pyvista where
+    it is installed (polygonal data, which meshio does not read); meshio's error stands
+    where neither reads it."""
+    try:
+        return _read_meshio(path)
+    except MeshReadError as error:
+        if importlib.util.find_spec("pyvista") is None:
+            raise
+        try:
+            return _read_polydata(path)
+        except MeshReadError:
+            raise error
+
+
+def _read_polydata(path):
+    """A VTK file of polygonal data through pyvista; its active texture coordinates as
+    data ``uv``."""
+    try:
+        import pyvista as pv
+    except ImportError as exc:
+        raise MeshReadError(f"{path}: reading {path.suffix} files needs pyvista: pip install pyvista") from exc
+    try:
+        mesh = pv.read(path)
+    except Exception as exc:  # VTK's readers raise many types
+        raise MeshReadError(f"{path}: cannot read ({exc})") from exc
+    if not isinstance(mesh, pv.PolyData):
+        raise MeshReadError(f"{path}: not polygonal data (a {type(mesh).__name__})")
+    try:
+        V, F, data = polydata_to_arrays(mesh, pv)
+    except ValueError as exc:
+        raise MeshReadError(f"{path}: no triangles in the file") from exc
+    uv = mesh.point_data.active_texture_coordinates_name
+    if uv in data:
+        data["uv"] = data.pop(uv)
+    return V, F, data
 
 
 def _read_meshio(path):
@@ -320,15 +367,15 @@ def write_mesh(path, V, F, *, uv=None, data=None):
     ----------
     path : str or os.PathLike
         Output file; the format is chosen by the extension (``.obj`` is written here,
-        anything else through meshio).
+        ``.ply`` through plyfile, ``.vtp`` through pyvista, anything else through meshio).
     V : (n, 3) or (n, 2) array_like
         Vertex positions.
     F : (m, 3) array_like of int
         Triangles, 0-based.
     uv : (n, 2) array_like, optional
         Texture coordinates, one per vertex. In OBJ they become ``vt`` lines with the
-        vertex's index and faces ``f a/a b/b c/c``; in other formats point data
-        ``texture_u`` and ``texture_v``.
+        vertex's index and faces ``f a/a b/b c/c``; in VTP the active texture
+        coordinates; in other formats point data ``texture_u`` and ``texture_v``.
     data : dict of str to (n,) or (n, k) array_like, optional
         Further per-vertex data (ignored by OBJ).
     """
@@ -352,6 +399,8 @@ def write_mesh(path, V, F, *, uv=None, data=None):
             _write_obj(tmp, V, F, uv)
         elif path.suffix.lower() == ".ply":
             _write_ply(tmp, V, F, point_data)
+        elif path.suffix.lower() == ".vtp":
+            _write_polydata(tmp, V, F, data, uv)
         else:
             _write_meshio(tmp, V, F, point_data)
 
@@ -364,6 +413,10 @@ def check_writable(path):
     import meshio
 
     name = Path(path).name.lower()
+    if name.endswith(".vtp"):
+        if importlib.util.find_spec("pyvista") is None:
+            raise ValueError("cannot write .vtp files without pyvista: pip install pyvista")
+        return
     known = [ext for ext in (".obj", *meshio.extension_to_filetypes) if name.endswith(ext)]
     if not known:
         what = f"{Path(path).suffix} files" if Path(path).suffix else "a file without an extension"
@@ -442,6 +495,16 @@ def _write_meshio(path, V, F, point_data):
             meshio.write(path, mesh)
     except Exception as exc:
         raise ValueError(f"cannot write {Path(path).suffix} files ({exc})") from exc
+
+
+def _write_polydata(path, V, F, data, uv):
+    """VTK XML polygonal data through pyvista, ``uv`` as its active texture coordinates."""
+    import pyvista as pv
+
+    mesh = arrays_to_polydata(V if V.shape[1] == 3 else np.column_stack([V, np.zeros(len(V))]), F, data, pv)
+    if uv is not None:
+        mesh.active_texture_coordinates = uv
+    mesh.save(path)
 
 
 def _write_ply(path, V, F, point_data):
