@@ -1,5 +1,6 @@
 import numpy as np
 import pytest
+from scipy.spatial import Delaunay
 
 from conftest import DATA, grid_disk, holed_disk, shared, sphere_mesh, star_disk, strip_disk, tube_disk
 from qcremesh.geometry.distance import point_mesh_distance
@@ -461,10 +462,22 @@ def test_pieces_are_remeshed_each_and_joined():
 
 
 def test_a_triangle_soup_is_refused():
+    """Also where its edges differ in length (which the cutting of long boundary edges
+    took for a point set's hull, every edge of a soup being a boundary edge: thousands
+    of pieces) or a face has zero area (which the repairs would merge first)."""
     uv, F = grid_disk(5)
     V = np.column_stack([uv, np.zeros(len(uv))])[F].reshape(-1, 3)
     with pytest.raises(TopologyError, match=r"connected components, a disk has 1 \(no two faces share a vertex"):
         remesh(V, np.arange(len(V)).reshape(-1, 3))
+    points = np.random.default_rng(0).random((300, 2))
+    G = Delaunay(points).simplices
+    soup = np.column_stack([points, np.zeros(len(points))])[G].reshape(-1, 3)
+    message = rf"^{len(G)} connected components, a disk has 1 \(no two faces share a vertex: weld the coincident vertices first\)$"
+    with pytest.raises(TopologyError, match=message):
+        remesh(soup, np.arange(len(soup)).reshape(-1, 3), 500)
+    soup[1] = soup[0]  # a needle
+    with pytest.raises(TopologyError, match=message):
+        remesh(soup, np.arange(len(soup)).reshape(-1, 3), 500)
 
 
 def test_a_boundary_spike_far_off_the_surface_remeshes_into_a_disk(fran):

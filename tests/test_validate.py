@@ -117,3 +117,11 @@ def test_triangle_soup_is_told_to_be_welded():
         f"{len(F)} connected components, a disk has 1 (no two faces share a vertex: weld the coincident vertices first)"
     )
 
+
+
+def test_check_not_soup():
+    v.check_not_soup(np.array([[0, 1, 2]]))
+    v.check_not_soup(np.array([[0, 1, 2], [2, 3, 4]]))
+    with pytest.raises(v.TopologyError, match=r"^2 connected components, a disk has 1 \(no two faces share a "
+                       r"vertex: weld the coincident vertices first\)$"):
+        v.check_not_soup(np.array([[0, 1, 2], [3, 4, 5]]))

@@ -21,6 +21,7 @@ __all__ = [
     "TopologyError",
     "check_triangle_mesh",
     "check_disk",
+    "check_not_soup",
     "foldover_edges",
 ]
 
@@ -150,9 +151,8 @@ def check_disk(V, F):
     twins = _check_triangle_mesh(V, F)
     ncomp, _ = topology.connected_components(F, len(V))
     if ncomp != 1:
-        soup = np.bincount(np.asarray(F).ravel()).max() == 1
-        hint = " (no two faces share a vertex: weld the coincident vertices first)" if soup else ""
-        raise TopologyError(f"{ncomp} connected components, a disk has 1{hint}")
+        check_not_soup(F)
+        raise TopologyError(f"{ncomp} connected components, a disk has 1")
     loops = topology.boundary_loops(F, twins)
     if len(loops) == 0:
         raise TopologyError("closed surface (no boundary), a disk has 1 boundary loop")
@@ -165,6 +165,18 @@ def check_disk(V, F):
         genus = (2 - chi - len(loops)) // 2
         raise TopologyError(f"genus {genus} (Euler characteristic {chi}), a disk has genus 0")
     return loops[0]
+
+
+def check_not_soup(F):
+    """Raise TopologyError for a triangle soup: more than one face, and no two sharing a
+    vertex (an export that gave every face its own corners, which the remesh would take
+    for as many pieces)."""
+    F = np.asarray(F)
+    if len(F) > 1 and np.bincount(F.ravel()).max() == 1:
+        raise TopologyError(
+            f"{len(F)} connected components, a disk has 1 (no two faces share a vertex: weld the coincident "
+            "vertices first)"
+        )
 
 
 def foldover_edges(V, F, angle=170.0):

@@ -108,6 +108,7 @@ from ..mesh.validate import (
     OrientationError,
     TopologyError,
     UnreferencedVertexError,
+    check_not_soup,
 )
 from ..param.crowding import crowded_arcs
 from ..param.disk import disk_conformal_map
@@ -1174,6 +1175,7 @@ def remesh(
         creases=creases, progress=progress,
     )
     stage("parameterize")
+    given_faces = F
     try:
         try:
             dm = disk_conformal_map(V, F)
@@ -1194,6 +1196,11 @@ def remesh(
                 if "boundary_split_vertices" in stats:
                     dm = disk_conformal_map(V, F)
     except TopologyError:
+        # A triangle soup is refused as one: repaired and cut into fans along its long
+        # boundary edges (every edge), foot.off with every face's corners its own was
+        # taken for thousands of pieces (stopped after 2 minutes). (The input, before the
+        # repairs: two triangles that share one corner are two pieces once it is split.)
+        check_not_soup(given_faces)
         # (a surface that is not a disk, whose repair did not cut them already)
         if not fixed_boundary and "boundary_split_vertices" not in stats:
             V, F, data, sizing = _refine_long_boundary(V, F, data, sizing, stats)
