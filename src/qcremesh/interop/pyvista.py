@@ -16,28 +16,11 @@ __all__ = ["from_pyvista", "to_pyvista", "remesh_pyvista"]
 
 
 def from_pyvista(mesh):
-    """The arrays of a :class:`pyvista.PolyData`'s faces
-    (:func:`qcremesh.mesh.polydata.polydata_to_arrays`: polygons of more than three
-    corners triangulated first, lines and vertex cells left out).
-
-    Parameters
-    ----------
-    mesh : pyvista.PolyData
-
-    Returns
-    -------
-    V : (n, 3) float64
-    F : (m, 3) int64
-    data : dict of str to (n, ...) array
-        The numeric point data arrays, by name.
-
-    Raises
-    ------
-    TypeError
-        ``mesh`` is not a PolyData (``mesh.extract_surface()`` gives the surface of
-        another dataset).
-    ValueError
-        It has no faces.
+    """The arrays (V (n, 3), F (m, 3), data) of a :class:`pyvista.PolyData`'s faces, its
+    numeric point data by name: :func:`qcremesh.mesh.polydata.polydata_to_arrays`, which
+    triangulates polygons of more than three corners, leaves out lines and vertex cells,
+    and raises TypeError for a dataset that is not a PolyData and ValueError for one
+    without faces.
     """
     return polydata_to_arrays(mesh, require("pyvista"))
 
