@@ -407,9 +407,9 @@ def write_mesh(path, V, F, *, uv=None, data=None):
 
 def check_writable(path):
     """Raise ValueError unless :func:`write_mesh` can write the format of ``path`` by its
-    extension (OBJ, PLY, or one of meshio's, whose writer is tried on one triangle: some
-    need a module not installed, as XDMF h5py), so that a caller can tell before the work
-    whose result it writes."""
+    extension (OBJ, PLY, VTP where pyvista is installed, or one of meshio's, whose writer
+    is tried on one triangle: some need a module not installed, as XDMF h5py), so that a
+    caller can tell before the work whose result it writes."""
     import meshio
 
     name = Path(path).name.lower()
