@@ -461,6 +461,18 @@ def test_pieces_are_remeshed_each_and_joined():
     np.testing.assert_array_equal(r.levels[-1][1], r.F)
 
 
+def test_a_planar_mesh_of_two_coordinates_gets_z_0():
+    """(n, 2) positions give the output of (n, 3) ones with z = 0 (they raised an
+    IndexError in the corners' search)."""
+    uv, F = grid_disk(8, jitter=0.3)
+    r = remesh(uv, F, 300)
+    flat = remesh(np.column_stack([uv, np.zeros(len(uv))]), F, 300)
+    np.testing.assert_array_equal(r.V, flat.V)
+    np.testing.assert_array_equal(r.F, flat.F)
+    with pytest.raises(ValueError, match=r"^V must be \(n, 3\) or \(n, 2\), got shape \(64, 4\)$"):
+        remesh(np.zeros((64, 4)), F, 300)
+
+
 def test_a_triangle_soup_is_refused():
     """Also where its edges differ in length (which the cutting of long boundary edges
     took for a point set's hull, every edge of a soup being a boundary edge: thousands

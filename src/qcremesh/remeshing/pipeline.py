@@ -1017,7 +1017,9 @@ def remesh(
 
     Parameters
     ----------
-    V : (n, 3) float
+    V : (n, 3) or (n, 2) float
+        Vertex positions; a planar mesh's (n, 2) get z = 0 (as
+        :func:`qcremesh.mesh.io.read_mesh` gives them), and so does its output.
     F : (m, 3) int
         Manifold, consistently oriented surfaces (a disk passes
         :func:`qcremesh.mesh.validate.check_disk`).
@@ -1129,6 +1131,10 @@ def remesh(
     if retries < 0:
         raise ValueError("retries must be >= 0")
     V = np.asarray(V, dtype=np.float64)
+    if V.ndim != 2 or V.shape[1] not in (2, 3):
+        raise ValueError(f"V must be (n, 3) or (n, 2), got shape {V.shape}")
+    if V.shape[1] == 2:
+        V = np.column_stack([V, np.zeros(len(V))])
     F = np.asarray(F, dtype=np.int64)
     faces = len(F) if faces is None else int(faces)
     if faces < 4:
