@@ -18,7 +18,7 @@ from qcremesh.mesh.topology import (
 )
 from qcremesh.mesh.validate import OrientationError, TopologyError, check_disk
 from qcremesh.param.disk import disk_conformal_map
-from qcremesh.remeshing.pipeline import METHODS, remesh
+from qcremesh.remeshing.pipeline import MAX_REDRAWN_SLIVERS, METHODS, remesh
 
 
 @pytest.fixture(scope="module")
@@ -201,6 +201,18 @@ def test_landmarks_drawn_again_below_the_quality_floor():
     assert [r.stats["draws"] for r in runs] == [1, 2, 3]
     q = [radius_ratio(r.V, r.F).min() for r in runs]
     assert q[0] < 0.3 and q[0] <= q[1] <= q[2]
+
+
+def test_landmarks_not_drawn_again_where_the_surface_makes_the_slivers():
+    """A grid whose heights are noise of four edge lengths: the first draw leaves far more
+    than MAX_REDRAWN_SLIVERS faces below 0.3, which come from the surface, and the
+    landmarks are not drawn again."""
+    uv, F = grid_disk(30)
+    h = np.median(np.linalg.norm(uv[F[:, 0]] - uv[F[:, 1]], axis=1))
+    V = np.column_stack([uv, 4 * h * np.random.default_rng(0).standard_normal(len(uv))])
+    r = remesh(V, F, len(F))
+    assert r.stats["draws"] == 1
+    assert np.count_nonzero(radius_ratio(r.V, r.F) < 0.3) > MAX_REDRAWN_SLIVERS
 
 
 def test_long_strip_keeps_its_face_count_and_quality():
