@@ -121,10 +121,16 @@ def piece_genera(F, n):
     return [topology.genus(F[label == k]) for k in range(count)]
 
 
+def same_points(W, V):
+    """Whether two vertex arrays are the same points to 1e-6 of the bounding-box diagonal
+    (one a copy in single precision: pyvista reads fran_cut.vtk's "float" points so)."""
+    return W.shape == V.shape and np.abs(W - V).max() <= 1e-6 * np.linalg.norm(np.ptp(W, axis=0))
+
+
 def inventory(folder, names):
-    """Readable meshes of the folder, each once (a file with the same vertices and faces as
-    an earlier one is skipped), whether each is a disk, and the genus of each piece.
-    Returns (meshes, skipped)."""
+    """Readable meshes of the folder, each once (a file with the same faces as an earlier
+    one and the same vertices, to single precision, is skipped), whether each is a disk,
+    and the genus of each piece. Returns (meshes, skipped)."""
     # MATLAB files last: a mesh that is also there in a common format goes by that name.
     if names:
         paths = [folder / name for name in names]
@@ -139,13 +145,17 @@ def inventory(folder, names):
         except Exception as error:
             skipped.append({"mesh": path.name, "reason": f"cannot read: {error}"})
             continue
-        digest = hashlib.sha1(V.tobytes() + F.tobytes()).hexdigest()
-        if digest in seen:
-            skipped.append(
-                {"mesh": path.name, "reason": f"same vertices and faces as {seen[digest]}"}
+        digest = hashlib.sha1(F.tobytes()).hexdigest()
+        twin = next(((W, name) for W, name in seen.get(digest, []) if same_points(W, V)), None)
+        if twin is not None:
+            W, name = twin
+            reason = (
+                f"same vertices and faces as {name}" if np.array_equal(W, V)
+                else f"same faces as {name}, its vertices in single precision"
             )
+            skipped.append({"mesh": path.name, "reason": reason})
             continue
-        seen[digest] = path.name
+        seen.setdefault(digest, []).append((V, path.name))
         try:
             qcremesh.check_disk(V, F)
             not_disk = None
