@@ -16,7 +16,7 @@ from qcremesh.mesh.topology import (
     nonmanifold_edges,
     nonmanifold_vertices,
 )
-from qcremesh.mesh.validate import OrientationError, TopologyError, check_disk
+from qcremesh.mesh.validate import InvalidIndexError, OrientationError, TopologyError, check_disk
 from qcremesh.param.disk import disk_conformal_map
 from qcremesh.remeshing.pipeline import MAX_REDRAWN_SLIVERS, METHODS, remesh
 
@@ -190,6 +190,14 @@ def test_min_quality_at_the_nostrils():
         r = remesh(V, F, faces=len(F) // 2, seed=seed, retries=0)
         assert r.stats["draws"] == 1
         assert radius_ratio(r.V, r.F).min() >= 0.3
+
+
+def test_remesh_refuses_indices_that_are_not_whole_numbers():
+    """numpy would truncate them to other faces; whole-number floats are taken."""
+    uv, F = grid_disk(8)
+    assert len(remesh(uv, F.astype(np.float64), 100).F) > 0
+    with pytest.raises(InvalidIndexError, match="^face indices must be whole numbers, got 1 that are not"):
+        remesh(uv, np.where(np.arange(F.size).reshape(F.shape) == 4, F + 0.25, F), 100)
 
 
 def test_landmarks_drawn_again_below_the_quality_floor():

@@ -48,6 +48,26 @@ def test_shared_hard_cases(mesh, error, message):
     assert str(exc.value) == message
 
 
+def test_as_mesh_arrays_keeps_the_values_or_refuses():
+    """Whole-number float indices (MATLAB's doubles) and integer coordinates are taken;
+    conversions that would change values are refused: fractional indices (truncated),
+    booleans, complex coordinates (their imaginary part dropped)."""
+    uv, F = grid_disk(4)
+    V, G = v.as_mesh_arrays((10 * uv).astype(np.int32), F.astype(np.float64))
+    assert V.dtype == np.float64 and G.dtype == np.int64
+    np.testing.assert_array_equal(G, F)
+    np.testing.assert_array_equal(V, (10 * uv).astype(np.int32))
+    half = F.astype(np.float64)
+    half[3, 1] += 0.5
+    with pytest.raises(v.InvalidIndexError) as e:
+        v.as_mesh_arrays(uv, half)
+    assert str(e.value) == f"face indices must be whole numbers, got 1 that are not, e.g. {F[3, 1] + 0.5}"
+    with pytest.raises(v.InvalidIndexError, match="^face indices must be integers, got bool$"):
+        v.as_mesh_arrays(uv, F > 3)
+    with pytest.raises(v.InvalidIndexError, match="^vertex coordinates must be real numbers, got complex128$"):
+        v.as_mesh_arrays(uv + 1j, F)
+
+
 def test_each_defect_message():
     uv, F = grid_disk(4)
     V = lift(uv)

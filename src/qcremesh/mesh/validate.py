@@ -19,6 +19,7 @@ __all__ = [
     "NonManifoldError",
     "OrientationError",
     "TopologyError",
+    "as_mesh_arrays",
     "check_triangle_mesh",
     "check_disk",
     "check_not_soup",
@@ -31,7 +32,8 @@ class MeshError(ValueError):
 
 
 class InvalidIndexError(MeshError):
-    """Face array of the wrong shape or with indices out of range."""
+    """Face or vertex array of the wrong shape or type, indices out of range, coordinates
+    that are not finite."""
 
 
 class UnreferencedVertexError(MeshError):
@@ -62,6 +64,41 @@ def _some(items, k=5):
 
 def _plural(n, word):
     return f"{n} {word}" + ("" if n == 1 else "s")
+
+
+def as_mesh_arrays(V, F):
+    """Vertices as float64 and faces as int64 arrays, as the algorithms here take them,
+    where the conversion keeps their values: complex coordinates (whose imaginary part
+    numpy drops), face indices that are not whole numbers (numpy truncates 2.5 to 2) and
+    booleans are refused. Floating-point indices that are whole numbers (MATLAB's
+    doubles) are taken.
+
+    Parameters
+    ----------
+    V : (n, 3) array_like of real numbers
+    F : (m, 3) array_like of integers
+
+    Returns
+    -------
+    V : (n, 3) float64
+    F : (m, 3) int64
+
+    Raises
+    ------
+    InvalidIndexError
+    """
+    V, F = np.asarray(V), np.asarray(F)
+    if V.dtype == bool or not np.issubdtype(V.dtype, np.number) or np.iscomplexobj(V):
+        raise InvalidIndexError(f"vertex coordinates must be real numbers, got {V.dtype}")
+    if F.dtype == bool or not (np.issubdtype(F.dtype, np.integer) or np.issubdtype(F.dtype, np.floating)):
+        raise InvalidIndexError(f"face indices must be integers, got {F.dtype}")
+    if np.issubdtype(F.dtype, np.floating):
+        fractional = F[~(np.isfinite(F) & (F == np.round(F)))]
+        if len(fractional):
+            raise InvalidIndexError(
+                f"face indices must be whole numbers, got {len(fractional)} that are not, e.g. {fractional[0]}"
+            )
+    return V.astype(np.float64, copy=False), F.astype(np.int64, copy=False)
 
 
 def check_triangle_mesh(V, F):

@@ -74,7 +74,7 @@ from ..geometry.intrinsic import intrinsic_cotmatrix, intrinsic_delaunay
 from ..geometry.linsolve import complement, dirichlet_solve, spd_solver
 from ..geometry.operators import signed_doublearea, vertex_areas
 from ..mesh.topology import adjacency_matrix, boundary_loop, edges
-from ..mesh.validate import TopologyError, check_disk
+from ..mesh.validate import TopologyError, as_mesh_arrays, check_disk
 from .tutte import tutte_embedding
 
 __all__ = ["DiskMap", "disk_conformal_map", "harmonic_measure", "mobius_normalize"]
@@ -212,8 +212,7 @@ def disk_conformal_map(V, F, *, check=True):
     """
     times = {}
     t0 = time.perf_counter()
-    V = np.asarray(V, dtype=np.float64)
-    F = np.asarray(F, dtype=np.int64)
+    V, F = as_mesh_arrays(V, F)
     bnd = check_disk(V, F) if check else boundary_loop(F)
     if len(bnd) == len(V):
         raise TopologyError(

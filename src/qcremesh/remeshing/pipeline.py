@@ -108,6 +108,7 @@ from ..mesh.validate import (
     OrientationError,
     TopologyError,
     UnreferencedVertexError,
+    as_mesh_arrays,
     check_not_soup,
 )
 from ..param.crowding import crowded_arcs
@@ -1147,12 +1148,11 @@ def remesh(
         raise ValueError("levels must be >= 0")
     if retries < 0:
         raise ValueError("retries must be >= 0")
-    V = np.asarray(V, dtype=np.float64)
+    V, F = as_mesh_arrays(V, F)
     if V.ndim != 2 or V.shape[1] not in (2, 3):
         raise ValueError(f"V must be (n, 3) or (n, 2), got shape {V.shape}")
     if V.shape[1] == 2:
         V = np.column_stack([V, np.zeros(len(V))])
-    F = np.asarray(F, dtype=np.int64)
     faces = len(F) if faces is None else int(faces)
     if faces < 4:
         raise ValueError("faces must be at least 4")
