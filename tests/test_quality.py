@@ -14,6 +14,7 @@ from qcremesh.geometry.quality import (
     vertex_valence,
 )
 from qcremesh.mesh.io import read_mesh
+from qcremesh.mesh.validate import InvalidIndexError
 
 
 def regular_grid(k):
@@ -110,6 +111,9 @@ def test_mesh_quality_of_a_grid_and_against_a_reference():
     r = mesh_quality(V, F, reference=(V, F))
     distances = [r["hausdorff"], r["mean_distance"], r["boundary_hausdorff"]]
     assert distances == pytest.approx([0, 0, 0], abs=1e-15)
+    # a reference whose indices numpy would truncate is refused, not measured as another
+    with pytest.raises(InvalidIndexError, match="^face indices must be whole numbers"):
+        mesh_quality(V, F, reference=(V, F + 0.5))
 
 
 def test_mesh_quality_closed_and_nonmanifold():

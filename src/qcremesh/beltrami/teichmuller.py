@@ -73,6 +73,7 @@ import scipy.sparse as sp
 
 from ..geometry.linsolve import complement, spd_solver
 from ..geometry.operators import doublearea, signed_doublearea
+from ..mesh.validate import as_mesh_arrays
 from .coefficient import face_to_vertex, mu_chop, vertex_to_face
 from .solver import generalized_laplacian_weights
 
@@ -208,8 +209,7 @@ def teichmuller_map(
     >>> res.converged, round(res.k, 8), res.folded_faces
     (True, 0.2, 0)
     """
-    uv = np.asarray(uv, dtype=np.float64)
-    F = np.asarray(F, dtype=np.int64)
+    uv, F = as_mesh_arrays(uv, F)
     n = len(uv)
     landmarks = np.asarray(landmarks, dtype=np.int64).ravel()
     t = _as_complex(targets)

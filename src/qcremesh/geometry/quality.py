@@ -17,6 +17,7 @@ from ..mesh.topology import (
     nonmanifold_edges,
     nonmanifold_vertices,
 )
+from ..mesh.validate import as_mesh_arrays
 from .distance import hausdorff_distance, polyline_hausdorff_distance
 from .vectors import cross as cross_product
 from .vectors import norm
@@ -192,8 +193,7 @@ def mesh_quality(V, F, reference=None):
         (:func:`~qcremesh.geometry.distance.polyline_hausdorff_distance`): 0.0 when
         neither surface has a boundary, None when only one of them has.
     """
-    V = np.asarray(V, dtype=np.float64)
-    F = np.asarray(F)
+    V, F = as_mesh_arrays(V, F)
     q = radius_ratio(V, F)
     amin = np.degrees(min_angle(V, F))
     B = boundary_edges(F)
@@ -216,8 +216,7 @@ def mesh_quality(V, F, reference=None):
         "manifold": bool(len(nonmanifold_edges(F)) == 0 and len(nonmanifold_vertices(F)) == 0),
     }
     if reference is not None:
-        V0 = np.asarray(reference[0], dtype=np.float64)
-        F0 = np.asarray(reference[1])
+        V0, F0 = as_mesh_arrays(*reference)
         used = V0[np.unique(F0)]  # vertices no face uses are not part of the surface
         diag = float(np.linalg.norm(used.max(0) - used.min(0)))
         hausdorff, mean = hausdorff_distance(V, F, V0, F0)
