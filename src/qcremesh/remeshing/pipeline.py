@@ -785,19 +785,25 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
         ends = np.isin(parent, np.concatenate([np.concatenate([p[[0, -1]] for p in paths]), corners]))
         on_boundary = np.zeros(len(parent), dtype=bool)
         on_boundary[boundary_edges(F_cut).ravel()] = True
-        pieces, small, members = [], [], []
+        pieces, small, members, inner = [], [], [], []
         for k, (used, local) in enumerate(_split_pieces(F_cut, label, count)):
             members.append(parent[used])
             piece_data = {key: np.asarray(v)[parent][used] for key, v in data.items()} if data else data
             share = int(round(faces * area[k] / area.sum()))
             pieces.append((V_cut[used], local, share, np.flatnonzero(ends[used]), piece_data,
                            None if cut_density is None else cut_density[used]))
-            if share < MIN_PIECE_FACES or (name == "crowded" and on_boundary[used].all()):
+            inner.append(not on_boundary[used].all())
+            if share < MIN_PIECE_FACES or (name == "crowded" and not inner[-1]):
                 small.append(members[-1])
+        # the levels each piece with an interior vertex plans (a strip is split first and
+        # plans its own)
+        planned = [
+            _planned_levels(Vk, Fk, share, options["levels"], dk) if has else None
+            for (Vk, Fk, share, _, _, dk), has in zip(pieces, inner)
+        ]
         if not small and name == "crowded":
             # Pieces planned at fewer levels than one below the largest's (which all
             # pieces would then take) are not cut off.
-            planned = [_planned_levels(Vk, Fk, share, options["levels"], dk) for Vk, Fk, share, _, _, dk in pieces]
             most = planned[int(np.argmax([piece[2] for piece in pieces]))]
             small = [vertices for vertices, level in zip(members, planned) if level < most - 1]
         if not small:
@@ -812,17 +818,11 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
         # (a crease's closed loop whose join to the boundary went with a small piece)
         return None
     # Every piece at the levels of the one that can have the fewest: from the fewest
-    # planned (:func:`_planned_levels`, of the pieces with an interior vertex; a strip is
-    # split first and plans its own), and those that had more remeshed again. (From the
-    # levels asked for, Hand1.off's largest piece was remeshed at 2 levels and again at
-    # the 1 that a piece of 619 faces planned: 20.0 -> 9.8 s at its face count.)
+    # planned, and those that had more remeshed again. (From the levels asked for,
+    # Hand1.off's largest piece was remeshed at 2 levels and again at the 1 that a piece
+    # of 619 faces planned: 20.0 -> 9.8 s at its face count.)
     results = [None] * len(pieces)
-    planned = [
-        _planned_levels(Vk, Fk, share, options["levels"], dk)
-        for Vk, Fk, share, _, _, dk in pieces
-        if len(np.unique(Fk)) > len(boundary_loop(Fk))
-    ]
-    levels = min(planned, default=options["levels"])
+    levels = min((level for level in planned if level is not None), default=options["levels"])
     while True:
         for k, (Vk, Fk, share, corners, piece_data, dk) in enumerate(pieces):
             if results[k] is None or results[k].stats["levels"] > levels:
