@@ -12,6 +12,7 @@ from qcremesh.beltrami.coefficient import (
     vertex_to_face,
 )
 from qcremesh.mesh.io import read_mesh
+from qcremesh.mesh.validate import InvalidIndexError
 from qcremesh.param.tutte import tutte_embedding
 
 
@@ -33,6 +34,14 @@ def test_affine_map_has_known_mu(mesh):
     f = a * z + b * np.conj(z)
     target = np.column_stack([f.real, f.imag])
     np.testing.assert_allclose(beltrami_coefficient(uv, F, target), b / a, atol=1e-12)
+
+
+def test_fractional_face_indices_are_refused(mesh):
+    """numpy would take 2.5 for 2 and give the coefficient of other faces."""
+    uv, F = mesh
+    z = as_z(uv)
+    with pytest.raises(InvalidIndexError, match="^face indices must be whole numbers"):
+        beltrami_coefficient(uv, F + 0.5, z)
 
 
 def test_conformal_map_has_zero_mu(mesh):

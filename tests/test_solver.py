@@ -15,6 +15,7 @@ from qcremesh.geometry import linsolve
 from qcremesh.geometry.operators import cotmatrix, uniform_laplacian
 from qcremesh.mesh.io import read_mesh
 from qcremesh.mesh.topology import boundary_loop
+from qcremesh.mesh.validate import InvalidIndexError
 from qcremesh.param.tutte import tutte_embedding
 
 
@@ -31,6 +32,13 @@ def test_zero_mu_gives_cotmatrix():
     uv, F = grid_disk(6, jitter=0.3)
     L = generalized_laplacian(uv, F, np.zeros(len(F)))
     assert abs(L - cotmatrix(uv, F)).max() < 1e-12
+
+
+def test_boolean_faces_are_refused():
+    """(numpy would index with them as a mask.)"""
+    uv, F = grid_disk(6)
+    with pytest.raises(InvalidIndexError, match="^face indices must be integers, got bool$"):
+        generalized_laplacian(uv, F > 5, np.zeros(len(F)))
 
 
 def test_surface_mu_gives_surface_cotmatrix():

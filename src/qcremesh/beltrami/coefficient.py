@@ -12,6 +12,7 @@ import numpy as np
 
 from ..geometry.operators import face_gradients
 from ..mesh.topology import adjacency_matrix, vertex_face_incidence
+from ..mesh.validate import as_mesh_arrays
 
 __all__ = [
     "complex_derivatives",
@@ -92,6 +93,7 @@ def beltrami_coefficient(uv, F, target):
     >>> beltrami_coefficient(uv, np.array([[0, 1, 2]]), z + 0.3 * np.conj(z)).round(12)
     array([0.3+0.j])
     """
+    uv, F = as_mesh_arrays(uv, F)
     target = np.asarray(target)
     if target.ndim == 2 and target.shape[1] == 3:
         Dx, Dy = face_gradients(uv, F)

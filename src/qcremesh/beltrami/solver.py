@@ -19,6 +19,7 @@ import scipy.sparse as sp
 
 from ..geometry.linsolve import dirichlet_solve
 from ..geometry.operators import doublearea
+from ..mesh.validate import as_mesh_arrays
 from .coefficient import mu_chop
 
 __all__ = ["beltrami_tensor", "generalized_laplacian", "generalized_laplacian_weights", "linear_beltrami_solver"]
@@ -68,8 +69,7 @@ def generalized_laplacian(uv, F, mu):
     -------
     (n, n) CSR float
     """
-    uv = np.asarray(uv, dtype=np.float64)
-    F = np.asarray(F)
+    uv, F = as_mesh_arrays(uv, F)
     n = len(uv)
     off = generalized_laplacian_weights(uv, F, mu)
     i, j = np.array([0, 1, 2]), np.array([1, 2, 0])
