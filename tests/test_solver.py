@@ -35,7 +35,7 @@ def test_zero_mu_gives_cotmatrix():
 
 
 def test_boolean_faces_are_refused():
-    """(numpy would index with them as a mask.)"""
+    """Refused by name (numpy took them for a mask and raised that its size did not match)."""
     uv, F = grid_disk(6)
     with pytest.raises(InvalidIndexError, match="^face indices must be integers, got bool$"):
         generalized_laplacian(uv, F > 5, np.zeros(len(F)))
