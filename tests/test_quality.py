@@ -111,7 +111,7 @@ def test_mesh_quality_of_a_grid_and_against_a_reference():
     r = mesh_quality(V, F, reference=(V, F))
     distances = [r["hausdorff"], r["mean_distance"], r["boundary_hausdorff"]]
     assert distances == pytest.approx([0, 0, 0], abs=1e-15)
-    # a reference whose indices numpy would truncate is refused, not measured as another
+    # a reference with fractional indices is refused by name (an IndexError of numpy before)
     with pytest.raises(InvalidIndexError, match="^face indices must be whole numbers"):
         mesh_quality(V, F, reference=(V, F + 0.5))
 
