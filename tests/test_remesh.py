@@ -18,7 +18,8 @@ from qcremesh.mesh.topology import (
 )
 from qcremesh.mesh.validate import InvalidIndexError, OrientationError, TopologyError, check_disk
 from qcremesh.param.disk import disk_conformal_map
-from qcremesh.remeshing.pipeline import MAX_REDRAWN_SLIVERS, METHODS, remesh
+from qcremesh.remeshing.disk_remesh import MAX_REDRAWN_SLIVERS
+from qcremesh.remeshing.pipeline import METHODS, remesh
 
 
 @pytest.fixture(scope="module")

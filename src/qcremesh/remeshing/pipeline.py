@@ -1,25 +1,10 @@
-"""Quasi-conformal remeshing of a disk-topology surface (Algorithm 2 of Choi, Gu & Lui,
-with projection back onto the surface).
+"""Quasi-conformal remeshing of a triangle mesh (Choi, Gu & Lui): the entry point.
 
-1. Conformal parameterization onto the unit disk (Algorithm 1, :mod:`qcremesh.param.disk`).
-2. Density: the area distortion rho of the parameterization (Eq. 14), which the landmarks
-   follow by spreading the surface area itself.
-3. Landmarks: boundary points spaced uniformly by surface arc length (sharp boundary
-   corners included) and interior points from a CVT of the disk whose cells are taken on
-   the surface, so that their images are uniform on the surface (see
-   :mod:`qcremesh.adaptive.landmarks`).
-4. Base mesh: the Delaunay triangulation of the landmarks.
-5. Subdivision: ``levels`` times 1-to-4, new boundary vertices on the circle.
-6. Teichmueller map: the landmark-matching Teichmueller map of the subdivided mesh, by
-   the QC iteration started from the linear subdivision, with each face measured against
-   an equilateral triangle (see :mod:`qcremesh.beltrami.teichmuller`). With the
-   relaxation of step 8, which goes coarse to fine, the map is that of the level below
-   the output, whose subdivision the relaxation finishes.
-7. Projection: every vertex of the adaptive disk mesh is located in the parameterization
-   and its position interpolated barycentrically on the input surface; boundary vertices
-   are interpolated along the input boundary polyline.
-8. Beyond the paper, optional (``relax``, on by default): tangential relaxation on the
-   surface and a search that raises the minimum quality (:mod:`qcremesh.remeshing.relax`).
+:func:`remesh` checks the input and mends what can be mended without moving the surface,
+computes the conformal parameterization of a disk onto the unit disk (Algorithm 1,
+:mod:`qcremesh.param.disk`) and hands it to Algorithm 2
+(:func:`qcremesh.remeshing.disk_remesh.remesh_disk`: landmarks, base mesh, subdivision,
+Teichmueller map, projection, and the relaxation beyond the paper).
 
 Beyond the paper, any manifold surface: one that is not a disk is cut open into one
 along its edges (:mod:`qcremesh.mesh.cut`), remeshed with the two sides of every cut
@@ -34,42 +19,21 @@ Beyond the paper too, a ``sizing`` field (per input vertex, or ``"curvature"``, 
 area weighted by sizing^-2, and the relaxation keeps their grading.
 
 The ablations of the paper are the ``method`` option: ``"uniform"`` (a regular mesh of the
-disk projected as is, Fig. 7), ``"base"`` (the base mesh only), ``"subdivided"`` (steps 1-5
-without the Teichmueller map, Figs. 18-20 (c)) and ``"teichmuller"`` (all steps,
+disk projected as is, Fig. 7), ``"base"`` (the base mesh only), ``"subdivided"`` (Algorithm 2
+without the Teichmueller map, Figs. 18-20 (c)) and ``"teichmuller"`` (all of it,
 Figs. 18-20 (d), the default).
 """
 
 from __future__ import annotations
-
-import time
-from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components as graph_components
 from scipy.spatial import cKDTree
 
-from ..adaptive.basemesh import (
-    delaunay_disk_mesh,
-    flip_for_boundary_valence,
-    flip_for_surface_quality,
-    hexagonal_disk_points,
-    subdivide_disk_mesh,
-)
-from ..adaptive.landmarks import (
-    boundary_angles,
-    boundary_landmarks,
-    cvt_landmarks,
-    interpolate_on_boundary,
-)
-from ..adaptive.samples import area_samples
 from ..adaptive.sizing import check_sizing, curvature_sizing, hole_sizing, point_sizing
-from ..beltrami.coefficient import coherent_mu
-from ..beltrami.teichmuller import teichmuller_map
 from ..geometry.creases import check_crease_angle, sharp_edges
-from ..geometry.locate import interpolate_barycentric, locate_points
-from ..geometry.operators import doublearea, vertex_areas
-from ..geometry.quality import corner_radius_ratio_bound, radius_ratio, triangle_angles
+from ..geometry.operators import doublearea
 from ..geometry.refine import refine_boundary
 from ..geometry.repair import repair_degenerate_faces
 from ..geometry.threads import query_workers
@@ -90,7 +54,6 @@ from ..mesh.topology import (
     connected_components,
     duplicate_faces,
     euler_characteristic,
-    face_edge_lengths,
     genus,
     inconsistent_edges,
     needles_and_caps,
@@ -113,41 +76,13 @@ from ..mesh.validate import (
 )
 from ..param.crowding import crowded_arcs
 from ..param.disk import disk_conformal_map
-from .min_quality import QUALITY_FLOOR
-from .relax import relax_on_surface
+from .disk_remesh import MIN_BASE_FACES, output_edge_length, planned_levels, remesh_disk
+from .project import in_type
+from .result import RemeshResult, StageTimes
 
-__all__ = ["METHODS", "RemeshResult", "remesh", "project_to_surface"]
+__all__ = ["METHODS", "RemeshResult", "remesh"]
 
 METHODS = ("subdivided", "teichmuller", "base", "uniform")
-
-# Fewest base-mesh faces: below this the face count of the output, a multiple of
-# 4^levels times the base mesh's, cannot come within a few percent of the request, so
-# fewer levels are used.
-MIN_BASE_FACES = 100
-
-# The disk map is taken as far from conformal around an input vertex where its Beltrami
-# coefficient, averaged as a complex number over the vertex's faces and then 3 times over
-# its neighbours, has a modulus above NONCONFORMAL_MU: the average cancels the |mu| that
-# the map has on skinny triangles of a conformal map (a jittered grid: mean |mu| 0.19,
-# 0.4 % of the vertices above 0.3) and keeps a coherent stretch (a strip 8 times as long
-# as wide, whose ends the map crowds: 12 %; camel_b.obj: 31 %; the scans: at most 0.1 %).
-# Where more than NONCONFORMAL_SHARE of the vertices are, the base mesh's edges around
-# them are flipped to raise the quality on the surface.
-NONCONFORMAL_MU = 0.3
-NONCONFORMAL_SHARE = 0.01
-NONCONFORMAL_RINGS = 3
-
-# The landmarks cannot follow the surface where its disk map's scale changes by a large
-# factor across one base-mesh edge: a tube 40 long and of radius 1 at 1,700 faces gets base
-# edges 2.4 long with two levels, across which the scale changes by e^2.4, and the surface
-# areas of the CVT's cells have a coefficient of variation of 1.1 (mean radius ratio 0.89,
-# a third of the faces due on its far half); 0.16 with one level (0.98). Above
-# MAX_CELL_SPREAD, fewer levels are used. The disk meshes of ../shared/data at their face
-# count and half of it: 0.16-0.29 (human_brain at half 0.26-0.285 over seeds 0-3); at a
-# tenth of it, human_face 0.29 and human_brain 0.36, where one level fewer (none for
-# human_brain) raised the mean radius ratio by 0.01-0.02 (seeds 0-1; 0.005-0.01 at a
-# quarter of human_brain's count, 0.32) and min q and the Hausdorff distance mostly.
-MAX_CELL_SPREAD = 0.28
 
 # Boundary edges more than this many times as long as the edges around them (the convex
 # hull of a triangulated point set: 30-150 times) are cut into pieces where the surface
@@ -163,19 +98,6 @@ WELD_REFINE_RATIOS = (0.5, 0.25)
 # Where it still does not, the cut's edges within this many output edges of where the weld
 # went wrong are left out, if what is left still opens the surface into a disk.
 TRIM_REACH = 3.0
-
-# The landmarks are drawn again (``retries``) only where at most this many faces are
-# below QUALITY_FLOOR: a few slivers come from the draw, many from the surface. Measured
-# on the benchmark's runs: first draws with 3 and 8 such faces had none in the next;
-# camel_b.obj at half its face count 15 -> 7 (its smallest radius ratio 0.006 -> 0.069);
-# face-YH.off's pieces of 584, 105,036 and 53,008 faces, with 17, 59 and 136, had as many
-# or more in both redraws (7-9 s each on the largest).
-MAX_REDRAWN_SLIVERS = 16
-
-# A base mesh more than this fraction away from its planned face count gets its interior
-# landmarks drawn again, their number corrected.
-COUNT_SLACK = 0.02
-
 # Where the disk map gives more than CROWDED_SHARE of the boundary vertices the narrowest
 # arc (MIN_BOUNDARY_ARC of qcremesh.param.disk: crowded beyond what the landmarks
 # resolve), each run of boundary vertices crowded below CROWDED_RATIO of the mean arc per
@@ -212,10 +134,6 @@ CREASE_ROUNDS = 3
 # 1.0x of 1e-9 edge from their twins, and its weld failed.
 WELD_TOLERANCE = 1e-7
 
-# The CVT of the landmarks samples the disk at the parameterization's vertices, subdivided
-# until there are at least this many per landmark.
-CVT_SAMPLES_PER_LANDMARK = 20
-
 # A disk of fewer faces than a quarter of those asked for is split 1-to-4 until it has as
 # many where the mean |mu| of its disk map is above this. A cube of 12 faces at 500 / 5,000
 # faces (its cut disk's map 0.64): mean q 0.71 / 0.69, min q 0.013 / 0.000 -> 0.967 /
@@ -225,110 +143,6 @@ CVT_SAMPLES_PER_LANDMARK = 20
 # to 10,000 faces at 8-20 times as many (cut disks' maps 0.04-0.10) moved by -0.0002 to
 # +0.0013 (min q up by 0.00-0.08).
 COARSE_MAP_MU = 0.3
-
-# Where the 99th percentile of the subdivided samples' face sides is longer than this fraction
-# of the base mesh's planned edge, the samples are spread over the faces by area instead
-# (adaptive.samples.area_samples). The disk meshes of ../shared/data at their face count
-# and half of it: 0.16-0.65; a cone over a fan of 400 slivers: 1.06 and more.
-SAMPLE_EDGE_RATIO = 0.8
-
-
-@dataclass
-class RemeshResult:
-    """Result of :func:`remesh`.
-
-    Attributes
-    ----------
-    V : (n, 3) float
-        Vertices of the remeshed surface; the vertices of every coarser level come first.
-    F : (m, 3) int64
-        Its triangles, oriented as the input.
-    uv : (n, 2) float
-        Disk coordinates of the output vertices (the adaptive disk mesh, whose faces are
-        ``disk_levels[-1][1]``: for a closed surface, the vertices of the cut surface's
-        remesh, before its two sides were welded).
-    levels : list of (V, F)
-        The multiresolution hierarchy: level 0 is the base mesh, the last level is
-        ``(V, F)``; face f of a level is split into faces 4f..4f+3 of the next.
-    data : dict of str to ndarray
-        The input's per-vertex attributes carried to the output vertices.
-    disk_levels : list of (uv, F)
-        The base mesh and its subdivisions in the disk, before the Teichmueller map.
-    mu : (m,) complex or None
-        Beltrami coefficient of the Teichmueller map, per output face.
-    stats : dict
-        Numbers of the run: landmarks, CVT uniformity, Teichmueller k and iterations, ...;
-        with boundary corners, ``sharpest_corner_degrees`` (the input's angle at the
-        sharpest one) and ``corner_quality_bound``, the best smallest radius ratio of a
-        fan of triangles filling that angle
-        (:func:`~qcremesh.geometry.quality.corner_radius_ratio_bound`), which the output
-        follows up to its boundary edges being chords of the input boundary (a ragged
-        border cut by a plane through a decimated head: 6.6 degrees, 0.22; min q 0.235).
-    times : dict of str to float
-        Wall time of each stage, in seconds.
-    """
-
-    V: np.ndarray
-    F: np.ndarray
-    uv: np.ndarray
-    levels: list
-    data: dict = field(default_factory=dict)
-    disk_levels: list = field(default_factory=list)
-    mu: np.ndarray | None = None
-    stats: dict = field(default_factory=dict)
-    times: dict = field(default_factory=dict)
-
-
-def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
-    """Lift points of the disk onto the surface through a disk parameterization.
-
-    Interior points are located in the parameterization's triangles and interpolated
-    barycentrically; points flagged ``on_circle`` are interpolated by angle along the
-    boundary loop, so they land on the boundary polyline of the surface.
-
-    Parameters
-    ----------
-    disk_uv : (n, 2) float
-        Parameterization of the surface.
-    F : (m, 3) int
-    bnd : (b,) int
-        Boundary loop of the surface.
-    query_uv : (k, 2) float
-    on_circle : (k,) bool
-    fields : sequence of (n,) or (n, d) arrays
-        Per-vertex data of the surface to interpolate: its positions (n, 3), attributes.
-
-    Returns
-    -------
-    list of arrays
-        Each of ``fields`` at the query points, in its type: integer fields (colours of
-        0-255 as bytes, labels) rounded to the nearest value the type holds, boolean ones
-        true where the interpolated value is at least 1/2.
-    """
-    types = [np.asarray(f).dtype for f in fields]
-    fields = [np.asarray(f, dtype=np.float64) for f in fields]
-    out = [np.zeros((len(query_uv),) + f.shape[1:]) for f in fields]
-    inner = ~on_circle
-    if inner.any():
-        face, bary = locate_points(disk_uv, F, query_uv[inner])[:2]
-        for o, f in zip(out, fields):
-            o[inner] = interpolate_barycentric(F, face, bary, f)
-    if on_circle.any():
-        theta_b = boundary_angles(disk_uv, bnd)
-        theta = np.arctan2(query_uv[on_circle, 1], query_uv[on_circle, 0])
-        for o, f in zip(out, fields):
-            o[on_circle] = interpolate_on_boundary(theta_b, f[bnd], theta)
-    return [_in_type(o, t) for o, t in zip(out, types)]
-
-
-def _in_type(values, dtype):
-    """Interpolated float64 ``values`` of a field of type ``dtype`` back in that type."""
-    if dtype == np.bool_:
-        return values >= 0.5
-    if np.issubdtype(dtype, np.integer):
-        info = np.iinfo(dtype)
-        return np.clip(np.rint(values), info.min, info.max).astype(dtype)
-    return values.astype(dtype, copy=False)
 
 
 def _refine_long_boundary(V, F, data, sizing, stats, loop=None):
@@ -352,7 +166,7 @@ def _refine_long_boundary(V, F, data, sizing, stats, loop=None):
     def carried(values):
         values = np.asarray(values)
         flat = np.asarray(values, dtype=np.float64).reshape(len(values), -1)
-        return _in_type((along @ flat).reshape((along.shape[0],) + values.shape[1:]), values.dtype)
+        return in_type((along @ flat).reshape((along.shape[0],) + values.shape[1:]), values.dtype)
 
     data = {k: carried(v) for k, v in data.items()} if data else data
     return along @ V, F_new, data, None if sizing is None else along @ sizing
@@ -432,56 +246,6 @@ def _renumbered(vertices, kept):
     vertices = np.asarray(vertices, dtype=np.int64)
     at = np.searchsorted(kept, vertices).clip(0, max(len(kept) - 1, 0))
     return np.where(kept[at] == vertices, at, -1)
-
-
-def _plan(V, F, bnd, faces, levels, density=None):
-    """Numbers of boundary and interior landmarks for ``faces`` output faces, the spacing
-    of the boundary landmarks along the boundary, and the base mesh's face count wanted.
-    With a ``density`` (n,), the inverse of a sizing field, areas are counted times
-    density^2 and boundary lengths times density."""
-    base_faces = max(faces / 4**levels, 4.0)
-    h = _output_edge_length(V, F, base_faces, density)
-    lengths = np.linalg.norm(V[np.roll(bnd, -1)] - V[bnd], axis=1)
-    perimeter = lengths.sum()
-    sized = perimeter if density is None else (lengths * (density[bnd] + density[np.roll(bnd, -1)]) / 2).sum()
-    nb = max(int(round(sized / h)), 3)
-    ni = max(int(round((base_faces - nb + 2) / 2)), 0)
-    return nb, ni, perimeter / nb, base_faces
-
-
-def _levels_with_interior(V, F, bnd, faces, levels, density=None):
-    """The most levels, up to ``levels``, at which the base mesh planned by :func:`_plan`
-    has at least as many interior landmarks as boundary ones. A base mesh with fewer is
-    mostly chords between boundary landmarks, which neither subdivision nor relaxation
-    turns into a regular mesh (camel_b.obj, cut open along slits into a disk whose
-    boundary is 28 times the square root of its area: 18 interior landmarks against 89 at
-    half its face count, mean radius ratio 0.51); with fewer levels the base mesh gets an
-    interior."""
-    while levels > 0:
-        nb, ni, _, _ = _plan(V, F, bnd, faces, levels, density)
-        if ni >= nb:
-            break
-        levels -= 1
-    return levels
-
-
-def _planned_levels(V, F, faces, levels, density=None):
-    """The levels :func:`remesh` plans for the disk (V, F) at ``faces`` faces (with a
-    sizing field 1 / ``density``): fewer where the base mesh would get under
-    MIN_BASE_FACES faces or more boundary landmarks than interior ones
-    (:func:`_levels_with_interior`), before the CVT's test of its cells."""
-    while levels > 0 and faces / 4**levels < MIN_BASE_FACES:
-        levels -= 1
-    return _levels_with_interior(V, F, boundary_loop(F), faces, levels, density)
-
-
-def _output_edge_length(V, F, faces, density=None):
-    """The edge length of ``faces`` equilateral triangles of the surface's area (the mean
-    output edge length planned); with a ``density`` (n,), the inverse of a sizing field,
-    of its area counted times density^2 (the edge length where the density is 1, in its
-    metric, as :func:`_plan` measures it)."""
-    area = doublearea(V, F).sum() / 2 if density is None else (vertex_areas(V, F, len(V)) * density**2).sum()
-    return np.sqrt(4 * area / (np.sqrt(3) * faces))
 
 
 def _weld_levels(levels, join, chi, loops):
@@ -619,7 +383,7 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
         F_cut, parent, cut = cut_to_disk(V, F, len(V))
     except ValueError as error:
         raise TopologyError(f"cannot cut the surface open into a disk: {error}{_crack_hint(V, F)}") from error
-    edge = _output_edge_length(V, F, faces)
+    edge = output_edge_length(V, F, faces)
     if isinstance(sizing, str):
         # on the surface, not on the cut disk: the two sides of a cut see the same
         # surface, and get the same sizing and so the same vertices
@@ -704,7 +468,7 @@ def _crowded_cuts(V, F, dm, faces):
     the output edge length of ``faces`` faces), each from the boundary vertex before a run
     to the one after it through interior vertices
     (:func:`qcremesh.mesh.cut.paths_across`); [] where there is none."""
-    edge = _output_edge_length(V, F, faces)
+    edge = output_edge_length(V, F, faces)
     return [p for p in paths_across(V, F, _crowded_ends(V, F, dm, edge)) if p is not None]
 
 
@@ -758,7 +522,7 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
     not weld into a disk is dropped). A path that would cut off a piece of fewer than
     MIN_PIECE_FACES faces is not cut; nor, for the crowded cuts (``name`` "crowded"), one
     that would cut off a piece without an interior vertex, or planned at fewer levels
-    than one below the largest piece (:func:`_planned_levels`; every piece would take
+    than one below the largest piece (:func:`~qcremesh.remeshing.disk_remesh.planned_levels`; every piece would take
     them: Hand1.off's cut disk at half its face count, two pieces of a few hundred faces
     at no level, took 11.9 s instead of 5.3 s, mean q 0.966 instead of 0.987). The
     creases' cuts keep such pieces (a mesa whose top is a sixth of its area lost its
@@ -781,7 +545,7 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
         if cut_density is not None:
             weight = weight * (cut_density[F_cut] ** 2).mean(1)
         area = np.bincount(label, weight, count)
-        edge = _output_edge_length(V, F, faces, density)
+        edge = output_edge_length(V, F, faces, density)
         ends = np.isin(parent, np.concatenate([np.concatenate([p[[0, -1]] for p in paths]), corners]))
         on_boundary = np.zeros(len(parent), dtype=bool)
         on_boundary[boundary_edges(F_cut).ravel()] = True
@@ -798,7 +562,7 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
         # the levels each piece with an interior vertex plans (a strip is split first and
         # plans its own)
         planned = [
-            _planned_levels(Vk, Fk, share, options["levels"], dk) if has else None
+            planned_levels(Vk, Fk, share, options["levels"], dk) if has else None
             for (Vk, Fk, share, _, _, dk), has in zip(pieces, inner)
         ]
         if not small and name == "crowded":
@@ -933,7 +697,7 @@ def _upsampled(V, F, data, sizing, enough):
         X, F = upsample(X, F, 1)
     parts = np.split(X, np.cumsum([f.shape[1] for f in fields])[:-1], axis=1)
     fine_data = {
-        k: _in_type(p.reshape((len(X),) + np.shape(v)[1:]), np.asarray(v).dtype)
+        k: in_type(p.reshape((len(X),) + np.shape(v)[1:]), np.asarray(v).dtype)
         for (k, v), p in zip((data or {}).items(), parts[1:])
     }
     fine_sizing = parts[-1][:, 0] if len(parts) > 1 + len(fine_data) else sizing
@@ -1181,23 +945,15 @@ def remesh(
         levels = 0
     while levels > 0 and faces / 4**levels < MIN_BASE_FACES:
         levels -= 1
-    times, stats = {}, {"levels": levels}
-    notify = progress or (lambda stage: None)
-    started = {}
-
-    def stage(name):
-        notify(name)
-        started[name] = time.perf_counter()
-
-    def done(name):
-        times[name] = times.get(name, 0.0) + time.perf_counter() - started[name]
+    stats = {"levels": levels}
+    clock = StageTimes(progress)
 
     options = dict(
         levels=levels, method=method, seed=seed, corner_angle=corner_angle, cvt_iterations=cvt_iterations,
         relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries, cut_crowded=cut_crowded,
         creases=creases, progress=progress,
     )
-    stage("parameterize")
+    clock.start("parameterize")
     given_faces = F
     try:
         try:
@@ -1243,7 +999,7 @@ def remesh(
     stats.update(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces
     )
-    done("parameterize")
+    clock.stop("parameterize")
     bnd = dm.boundary
     corner_at = None
     if corners is not None:
@@ -1254,7 +1010,7 @@ def remesh(
             raise ValueError("corners must be vertices of the boundary")
     crowded = dm.narrowest_arcs > (CROWDED_SHARE_FIXED if fixed_boundary else CROWDED_SHARE) * len(dm.boundary)
     if curvature:
-        sizing = curvature_sizing(V, F, _output_edge_length(V, F, faces))
+        sizing = curvature_sizing(V, F, output_edge_length(V, F, faces))
     attempts = []
     if boundary_edge_length is None and relax > 0 and method != "uniform":
         # (the pieces themselves, with a boundary edge length, are not cut again)
@@ -1284,261 +1040,13 @@ def remesh(
             # boundary): remeshed without the creases, as where they do not weld
             result = None
         if result is not None:
-            result.times["parameterize"] = result.times.get("parameterize", 0.0) + times["parameterize"]
+            result.times["parameterize"] = result.times.get("parameterize", 0.0) + clock.times["parameterize"]
             return result
         if name == "crease":
             stats["creases_kept"] = False
-    density = None if sizing is None else 1.0 / sizing
-    if density is not None:
-        stats["sizing_min_ratio"] = float(sizing.min() / sizing.max())
-    # Where the map is far from conformal, the base mesh's Delaunay triangles are
-    # stretched on the surface.
-    stretch = coherent_mu(F, dm.mu, len(V), NONCONFORMAL_RINGS)
-    stats["param_nonconformal_share"] = float(np.mean(stretch > NONCONFORMAL_MU))
-    stats["param_narrowest_share"] = dm.narrowest_arcs / len(dm.boundary)
-    if method == "uniform" or stats["param_nonconformal_share"] <= NONCONFORMAL_SHARE:
-        stretch = None
-
-    # Where the CVT's cells come out far from equal on the surface (above MAX_CELL_SPREAD),
-    # fewer levels (more landmarks) are planned and the landmarks drawn again.
-    while True:
-        levels = _levels_with_interior(V, F, bnd, faces, levels, density)
-        nb, ni, boundary_spacing, base_faces = _plan(V, F, bnd, faces, levels, density)
-        stats["levels"] = levels
-
-        # What the landmarks of every draw share: the boundary landmarks, and the samples of
-        # the disk with their points and areas on the surface for the CVT.
-        stage("landmarks")
-        if method == "uniform":
-            spacing = np.sqrt(4 * np.pi / (np.sqrt(3) * max(faces / 4**levels, 4.0)))
-            nbu = max(int(round(2 * np.pi / spacing)), 3)
-            theta = 2 * np.pi * np.arange(nbu) / nbu
-            corner = np.zeros(nbu, dtype=bool)
-        else:
-            theta, corner = boundary_landmarks(
-                V, dm.uv, bnd, nb, corner_angle, None if density is None else density[bnd],
-                corners=corner_at, smooth=not fixed_boundary,
-                spacing=None if boundary_edge_length is None else boundary_edge_length * 2**levels,
-            )
-            stats["boundary_corners"] = int(corner.sum())
-            corner_faces = np.zeros(0)
-            if corner.any():
-                # The sharpest corner kept bounds the smallest radius ratio of the output,
-                # up to its boundary edges being chords (a ragged border can have teeth of
-                # a few degrees).
-                gap = np.abs(np.angle(np.exp(1j * (theta[corner][:, None] - boundary_angles(dm.uv, bnd)[None]))))
-                at = bnd[np.argmin(gap, axis=1)]
-                angle = np.bincount(F.ravel(), triangle_angles(V, F).ravel(), len(V))[at]
-                # the faces a convex corner wants, one per 60 degrees (a reflex one, a
-                # slit's end, none: camel_b's mean q moved by 0.001 either way over 4 seeds)
-                corner_faces = np.where(angle < np.pi, np.maximum(np.round(angle / (np.pi / 3)), 1), 0)
-                stats["sharpest_corner_degrees"] = float(np.degrees(angle.min()))
-                stats["corner_quality_bound"] = float(corner_radius_ratio_bound(angle).min())
-            samples_uv, samples_V, samples_F = dm.uv, V, F
-            samples_density = density
-            halvings = 0
-            while len(samples_uv) < CVT_SAMPLES_PER_LANDMARK * (ni + nb):
-                # the points on the surface and in the disk (and the density) subdivided together
-                fields = [samples_V, samples_uv] + ([] if density is None else [samples_density])
-                both, samples_F = upsample(np.column_stack(fields), samples_F, 1)
-                samples_V, samples_uv = both[:, :3], both[:, 3:5]
-                samples_density = None if density is None else both[:, 5]
-                halvings += 1
-            # (each subdivision halves every face's sides: the samples' face sides are the
-            # input's, halved, each as often)
-            long = np.percentile(face_edge_lengths(V, F), 99) / 2**halvings
-            if long > SAMPLE_EDGE_RATIO * _output_edge_length(V, F, base_faces, density):
-                # A fan of slivers, subdivided, samples the surface along their long edges
-                # only (in rings around the fan's centre, on which the landmarks then sit):
-                # the samples are spread over each input face by area instead.
-                fields = [dm.uv, V] + ([] if density is None else [density])
-                values, surface_area = area_samples(
-                    F, doublearea(V, F) / 2, CVT_SAMPLES_PER_LANDMARK * (ni + nb), fields
-                )
-                samples_uv, samples_V = values[0], values[1]
-                samples_density = None if density is None else values[2]
-            else:
-                surface_area = vertex_areas(samples_V, samples_F, len(samples_uv))
-            # The measure to spread and, as a CVT places its points with the square root
-            # of its weight per unit area, the weight.
-            cvt_mass, cvt_weight = surface_area, None
-            if density is not None:
-                cvt_mass, cvt_weight = surface_area * samples_density**2, surface_area * samples_density**4
-            circle = np.column_stack([np.cos(theta), np.sin(theta)])
-            circle_V = interpolate_on_boundary(boundary_angles(dm.uv, bnd), V[bnd], theta)
-        done("landmarks")
-
-        def adaptive_mesh(cvt_seed, first):
-            """The interior landmarks of one draw (``cvt_seed``) to the relaxed output:
-            (disk positions, faces, hierarchy, surface positions or None, mu, stats); None
-            when the ``first`` draw's CVT cells are too unequal for these levels."""
-            run = {}
-
-            def base_mesh(count):
-                """The CVT's interior landmarks (``count`` of them; the hexagonal lattice for
-                ``"uniform"``) and their Delaunay base mesh."""
-                stage("landmarks")
-                if method == "uniform":
-                    interior = hexagonal_disk_points(spacing)
-                else:
-                    cvt = cvt_landmarks(
-                        samples_uv, cvt_mass, circle, count, weight=cvt_weight, positions=samples_V,
-                        fixed_positions=circle_V, iterations=cvt_iterations, seed=cvt_seed,
-                    )
-                    interior = cvt.points
-                    run.update(cvt_iterations=cvt.iterations, cvt_uniformity=cvt.uniformity)
-                done("landmarks")
-                stage("base mesh")
-                mesh = delaunay_disk_mesh(theta, interior)
-                done("base mesh")
-                return mesh
-
-            base_uv, base_F = base_mesh(ni)
-            if first and levels > 0 and run.get("cvt_uniformity", 0.0) > MAX_CELL_SPREAD:
-                return None
-            kept = len(base_uv) - len(theta)
-            if method != "uniform" and kept > 0 and abs(len(base_F) - base_faces) > COUNT_SLACK * base_faces:
-                # The base mesh left out the landmarks too close to the boundary (or the CVT
-                # some with empty cells), or has more boundary landmarks than planned
-                # (corners): a second CVT with the number of interior landmarks corrected in
-                # proportion puts the face count back.
-                wanted = max((base_faces - len(theta) + 2) / 2, 0.0)
-                base_uv, base_F = base_mesh(int(round(wanted * ni / kept)))
-                run.update(cvt_redrawn=True)
-            valence_flips = relax > 0 and method != "uniform"
-            if stretch is not None or valence_flips:
-                on_circle = np.arange(len(base_uv)) < len(theta)
-                fields = [V] + ([stretch] if stretch is not None else [])
-                base_X, *base_stretch = project_to_surface(dm.uv, F, bnd, base_uv, on_circle, fields)
-            if stretch is not None:
-                base_F, flips = flip_for_surface_quality(base_uv, base_F, base_X, base_stretch[0] > NONCONFORMAL_MU)
-                run.update(base_flips=flips)
-            if valence_flips:
-                # Beyond the paper, with the relaxation: three faces at every boundary
-                # landmark but the corners, and at a convex corner one per 60 degrees of
-                # its angle (the open box cut along its creases at half its face count: a
-                # right-angled corner with three faces, min q 0.335 -> 0.663).
-                wanted = 3 * on_circle
-                wanted[: len(theta)][corner] = corner_faces
-                base_F, flips = flip_for_boundary_valence(base_uv, base_F, base_X, wanted)
-                run.update(base_valence_flips=flips)
-            run.update(base_vertices=len(base_uv), base_faces=len(base_F))
-
-            stage("subdivide")
-            hierarchy = subdivide_disk_mesh(base_uv, base_F, levels)
-            uv, Fo = hierarchy[-1]
-            done("subdivide")
-
-            mu = None
-            # Where the relaxation starts on the level below the output (coarse to fine).
-            coarse_uv = hierarchy[-2][0] if levels > 0 else None
-            # With the relaxation, which takes the level below the output first, the
-            # Teichmueller map is that level's (a quarter of the faces; the base mesh itself
-            # for one level, which the map leaves as it is).
-            mapped = -2 if relax > 0 else -1
-            if method == "teichmuller" and levels + mapped >= 0:
-                stage("teichmuller")
-                # The source is the equilateral complex of the subdivided mesh and the QC
-                # iteration starts from the linear subdivision, which already matches the
-                # landmarks (see qcremesh.beltrami.teichmuller).
-                map_uv, map_F = hierarchy[mapped]
-                tm = teichmuller_map(
-                    map_uv,
-                    map_F,
-                    np.arange(len(base_uv)),
-                    base_uv,
-                    boundary=boundary_loop(map_F),
-                    initial=map_uv,
-                    reference="equilateral",
-                    max_iter=teichmuller_iterations,
-                    smooth=1,
-                )
-                # A face of a level and its four children of the linear subdivision have
-                # the same coefficient (the equilateral frames of the children are the
-                # parent's, up to half turns).
-                mu = np.repeat(tm.mu, 4 ** (-1 - mapped))
-                if mapped == -1:
-                    uv = tm.uv
-                else:
-                    coarse_uv = tm.uv
-                run.update(
-                    teichmuller_k=float(tm.k),
-                    teichmuller_iterations=int(tm.iterations),
-                    teichmuller_converged=bool(tm.converged),
-                    teichmuller_folded_faces=int(tm.folded_faces),
-                    teichmuller_guarded_faces=int(tm.guarded_faces),
-                )
-                done("teichmuller")
-
-            Vo = None
-            if relax > 0:
-                stage("relax")
-                pinned = np.zeros(len(uv), dtype=bool)
-                pinned[: len(theta)] = corner
-                scale = boundary_spacing
-                sweeps = relax
-                faces_hint = None
-                if method in ("subdivided", "teichmuller") and levels > 0:
-                    # Coarse to fine: the level below the output takes the sweeps (a quarter of
-                    # the vertices, twice the reach per sweep), and its relaxed subdivision
-                    # half as many.
-                    coarse_F = hierarchy[-2][1]
-                    coarse_uv, _, coarse_faces = relax_on_surface(
-                        dm.uv, F, V, coarse_uv, coarse_F, iterations=relax, pinned=pinned[: len(coarse_uv)],
-                        boundary_scale=2 * scale, min_quality=0, regular_rounds=0, density=density,
-                        fixed_boundary=fixed_boundary, return_faces=True,
-                    )
-                    uv = subdivide_disk_mesh(coarse_uv, coarse_F, 1)[-1][0]
-                    # The coarse vertices keep their input faces; the new ones are found
-                    # from them.
-                    faces_hint = np.r_[coarse_faces, np.full(len(uv) - len(coarse_uv), -1)]
-                    sweeps = max(relax // 2, 1)
-                uv, Vo = relax_on_surface(
-                    dm.uv, F, V, uv, Fo, iterations=sweeps, pinned=pinned, boundary_scale=scale, faces=faces_hint,
-                    density=density, fixed_boundary=fixed_boundary,
-                )
-                done("relax")
-            return uv, Fo, hierarchy, Vo, mu, run
-
-        # The smallest radius ratio after the relaxation depends chaotically on the landmarks.
-        # With landmarks from disk cells it was below QUALITY_FLOOR in 3 of 24 draws (seeds 0-5
-        # on hand.ply at both face counts, human_brain.ply and human_face.obj at half), each at
-        # a narrow notch of a scan border; with surface cells, in none of 38 draws (seeds 0-9 of
-        # human_face.obj at half its face count, 0-5 at its face count, 0-5 of fran_cut, venus
-        # and foot and 0-3 of hand.ply at half; the lowest 0.310); hand.ply subdivided once
-        # was (0.293, at a boundary corner) until the relaxation learnt to smooth the rings
-        # around such faces together. camel_b.obj, cut along zero-width slits, never reaches
-        # it. Below it, the landmarks are drawn again, up to ``retries`` times, and the best
-        # draw is kept, while at most MAX_REDRAWN_SLIVERS faces are.
-        draws = 1 + (retries if relax > 0 and method != "uniform" else 0)
-        best = None
-        for draw in range(draws):
-            candidate = adaptive_mesh(seed if draw == 0 else [seed, draw], draw == 0)
-            if candidate is None:
-                break
-            _, Fo, _, Vo, _, _ = candidate
-            q = radius_ratio(Vo, Fo) if Vo is not None else np.ones(1)
-            if best is None or q.min() > best[0]:
-                best = (q.min(), candidate)
-            slivers = np.count_nonzero(q < QUALITY_FLOOR)
-            if slivers == 0 or slivers > MAX_REDRAWN_SLIVERS:
-                break
-        if best is not None or levels == 0:
-            break
-        levels -= 1
-    uv, Fo, hierarchy, Vo, mu, run = best[1]
-    stats.update(run, draws=draw + 1)
-
-    stage("project")
-    on_circle = np.zeros(len(uv), dtype=bool)
-    on_circle[boundary_edges(Fo).ravel()] = True
-    names = sorted(data) if data else []
-    # The relaxation already lifted the vertices; only the attributes are left then.
-    fields = ([V] if Vo is None else []) + [data[k] for k in names]
-    lifted = project_to_surface(dm.uv, F, bnd, uv, on_circle, fields) if fields else []
-    if Vo is None:
-        Vo = lifted.pop(0)
-    out_data = dict(zip(names, lifted))
-    levels_out = [(Vo[: len(u)], f) for u, f in hierarchy]
-    done("project")
-    return RemeshResult(Vo, Fo, uv, levels_out, out_data, hierarchy, mu, stats, times)
+    return remesh_disk(
+        V, F, dm, faces, levels=levels, method=method, seed=seed, corner_angle=corner_angle,
+        cvt_iterations=cvt_iterations, relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries,
+        sizing=sizing, fixed_boundary=fixed_boundary, corner_at=corner_at, boundary_edge_length=boundary_edge_length,
+        data=data, stats=stats, clock=clock,
+    )
