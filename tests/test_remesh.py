@@ -589,3 +589,18 @@ def test_scattered_point_set_with_a_hole_gets_its_long_boundary_edges_cut():
     assert r.stats["boundary_split_vertices"] > 100
     q = mesh_quality(r.V, r.F, reference=(V, F))
     assert q["boundary_loops"] == 2 and q["euler_characteristic"] == 0 and q["q_min"] > 0.5 and q["q_mean"] > 0.96
+
+
+def test_progress_is_told_each_stage_as_it_starts_and_the_times_are_theirs():
+    """``progress`` hears the stages in the order they run (the landmarks' stage again for
+    each CVT draw), and ``times`` has the wall time of exactly those stages."""
+    V, F = grid_disk(24, jitter=0.2)
+    heard = []
+    r = remesh(V, F, faces=1800, progress=heard.append)  # two levels: a Teichmueller map
+    first = list(dict.fromkeys(heard))
+    assert first == ["parameterize", "landmarks", "base mesh", "subdivide", "teichmuller", "relax", "project"]
+    assert set(r.times) == set(first) and all(t >= 0 for t in r.times.values())
+    heard.clear()
+    r = remesh(V, F, faces=1800, method="subdivided", relax=0, progress=heard.append)
+    assert list(dict.fromkeys(heard)) == ["parameterize", "landmarks", "base mesh", "subdivide", "project"]
+    assert set(r.times) == set(heard)
