@@ -38,7 +38,8 @@ from ..mesh.topology import boundary_edges, duplicate_faces, edges, orient_faces
 from ..mesh.validate import MeshError, foldover_edges
 from ..param.disk import disk_conformal_map
 from ..remeshing.min_quality import QUALITY_FLOOR
-from ..remeshing.pipeline import LONG_BOUNDARY_RATIO, METHODS
+from ..remeshing.mend import LONG_BOUNDARY_RATIO
+from ..remeshing.pipeline import METHODS
 
 __all__ = ["main"]
 

@@ -1,7 +1,7 @@
 """Quasi-conformal remeshing of a triangle mesh (Choi, Gu & Lui): the entry point.
 
-:func:`remesh` checks the input and mends what can be mended without moving the surface,
-computes the conformal parameterization of a disk onto the unit disk (Algorithm 1,
+:func:`remesh` checks the input and mends what can be mended without moving the surface
+(:mod:`qcremesh.remeshing.mend`), computes the conformal parameterization of a disk onto the unit disk (Algorithm 1,
 :mod:`qcremesh.param.disk`) and hands it to Algorithm 2
 (:func:`qcremesh.remeshing.disk_remesh.remesh_disk`: landmarks, base mesh, subdivision,
 Teichmueller map, projection, and the relaxation beyond the paper).
@@ -34,8 +34,6 @@ from scipy.spatial import cKDTree
 from ..adaptive.sizing import check_sizing, curvature_sizing, hole_sizing, point_sizing
 from ..geometry.creases import check_crease_angle, sharp_edges
 from ..geometry.operators import doublearea
-from ..geometry.refine import refine_boundary
-from ..geometry.repair import repair_degenerate_faces
 from ..geometry.threads import query_workers
 from ..mesh.cut import (
     cut_along_edges,
@@ -46,23 +44,15 @@ from ..mesh.cut import (
     weld_along_paths,
     weld_cut,
 )
-from ..mesh.subdivide import upsample
 from ..mesh.topology import (
     boundary_edges,
     boundary_loop,
     boundary_loops,
     connected_components,
-    duplicate_faces,
     euler_characteristic,
     genus,
-    inconsistent_edges,
-    needles_and_caps,
     nonmanifold_edges,
     nonmanifold_vertices,
-    orient_faces,
-    split_nonmanifold_edges,
-    split_nonmanifold_vertices,
-    unreferenced_vertices,
 )
 from ..mesh.validate import (
     DegenerateFaceError,
@@ -77,19 +67,12 @@ from ..mesh.validate import (
 from ..param.crowding import crowded_arcs
 from ..param.disk import disk_conformal_map
 from .disk_remesh import MIN_BASE_FACES, output_edge_length, planned_levels, remesh_disk
-from .project import in_type
+from .mend import refine_long_boundary, renumbered, repair_input, upsampled
 from .result import RemeshResult, StageTimes
 
 __all__ = ["METHODS", "RemeshResult", "remesh"]
 
 METHODS = ("subdivided", "teichmuller", "base", "uniform")
-
-# Boundary edges more than this many times as long as the edges around them (the convex
-# hull of a triangulated point set: 30-150 times) are cut into pieces where the surface
-# around them is flat (:func:`qcremesh.geometry.refine.refine_boundary`). The disk meshes
-# of ../shared/data: at most 3.7 times; their longest boundary edge is at most 3.7 times
-# the median face side, which rules most inputs out before the local measure.
-LONG_BOUNDARY_RATIO = 4.0
 
 # Where the remesh of a surface cut open does not weld back, it is done again with the
 # edges around where the weld went wrong shortened to these ratios, in turn.
@@ -143,109 +126,6 @@ WELD_TOLERANCE = 1e-7
 # to 10,000 faces at 8-20 times as many (cut disks' maps 0.04-0.10) moved by -0.0002 to
 # +0.0013 (min q up by 0.00-0.08).
 COARSE_MAP_MU = 0.3
-
-
-def _refine_long_boundary(V, F, data, sizing, stats, loop=None):
-    """The input with its boundary edges far longer than the edges around them cut into
-    pieces, and its flat parts flipped to Delaunay
-    (:func:`qcremesh.geometry.refine.refine_boundary`): vertices, faces, data and sizing
-    (interpolated along the edges; data in their types), as they are where no edge is cut
-    (``boundary_split_vertices`` in ``stats`` says one was). ``loop``, the boundary loop
-    where known, spares finding the boundary edges."""
-    B = boundary_edges(F) if loop is None else np.column_stack([loop, np.roll(loop, -1)])
-    if not len(B):
-        return V, F, data, sizing
-    longest = np.linalg.norm(V[B[:, 1]] - V[B[:, 0]], axis=1).max()
-    if longest <= LONG_BOUNDARY_RATIO * np.median(np.linalg.norm(V[F[:, 1]] - V[F[:, 0]], axis=1)):
-        return V, F, data, sizing
-    F_new, along = refine_boundary(V, F, LONG_BOUNDARY_RATIO)
-    if F_new is None:
-        return V, F, data, sizing
-    stats["boundary_split_vertices"] = along.shape[0] - len(V)
-
-    def carried(values):
-        values = np.asarray(values)
-        flat = np.asarray(values, dtype=np.float64).reshape(len(values), -1)
-        return in_type((along @ flat).reshape((along.shape[0],) + values.shape[1:]), values.dtype)
-
-    data = {k: carried(v) for k, v in data.items()} if data else data
-    return along @ V, F_new, data, None if sizing is None else along @ sizing
-
-
-def _repair(V, F, data, sizing, stats):
-    """The input made acceptable to the disk map where the validation refused it for
-    what can be mended without moving the surface (more than 1e-3 of an edge): faces
-    listed more than once are kept once, vertices no face uses dropped, sheets of faces
-    that meet at an edge of more than two faces detached there
-    (:func:`qcremesh.mesh.topology.split_nonmanifold_edges`) and vertices where two
-    sheets touch split into one per sheet
-    (:func:`qcremesh.mesh.topology.split_nonmanifold_vertices`), faces turned against
-    their neighbours reversed (:func:`qcremesh.mesh.topology.orient_faces`, the
-    majority's orientation kept), needles merged and caps flipped away
-    (:func:`qcremesh.geometry.repair.repair_degenerate_faces`). Returns the new vertices,
-    faces, per-vertex data and sizing field (of the vertices kept) and the input vertex
-    each vertex is, counting what was done in ``stats``; None where nothing applies or
-    a defect stands that this does not mend (an edge whose sheets meet again around its
-    ends), which the validation then names."""
-    n = len(V)
-    repaired = False
-    kept = np.arange(n)
-    repeated = duplicate_faces(F)
-    if len(repeated):
-        F = np.delete(F, repeated, axis=0)
-        stats["duplicate_faces"] = len(repeated)
-        repaired = True
-    unused = unreferenced_vertices(F, n)
-    if len(unused):
-        used = np.ones(n, dtype=bool)
-        used[unused] = False
-        kept = np.flatnonzero(used)
-        V, F = V[kept], (np.cumsum(used) - 1)[F]
-        stats["unreferenced_vertices"] = len(unused)
-        repaired = True
-    shared = nonmanifold_edges(F)
-    if len(shared):
-        F, copied = split_nonmanifold_edges(V, F)
-        if len(nonmanifold_edges(F)):
-            return None
-        V, kept = V[copied], kept[copied]
-        stats["split_edges"] = len(shared)
-        repaired = True
-    pinched = nonmanifold_vertices(F)
-    if len(pinched):
-        F, copied = split_nonmanifold_vertices(F)
-        V, kept = V[copied], kept[copied]
-        stats["split_vertices"] = len(pinched)
-        repaired = True
-    if len(inconsistent_edges(F)):
-        try:
-            F, turned = orient_faces(F)
-        except ValueError as exc:
-            raise OrientationError(
-                "the surface is not orientable (as a Moebius strip): no orientation of its faces agrees across "
-                "every edge"
-            ) from exc
-        stats["reoriented_faces"] = int(turned.sum())
-        repaired = True
-    needle, cap = needles_and_caps(V, F)
-    if needle.any() or cap.any():
-        V, F, merged = repair_degenerate_faces(V, F)
-        kept = kept[merged]
-        stats.update(repaired_needles=int(needle.sum()), repaired_caps=int(cap.sum()))
-        repaired = True
-    if not repaired:
-        return None
-    data = {k: np.asarray(v)[kept] for k, v in data.items()} if data else data
-    sizing = sizing[kept] if sizing is not None else None
-    return V, F, data, sizing, kept
-
-
-def _renumbered(vertices, kept):
-    """``vertices`` as indices into ``kept`` (the input vertex of each vertex a repair kept,
-    sorted), the first copy of each; -1 where gone."""
-    vertices = np.asarray(vertices, dtype=np.int64)
-    at = np.searchsorted(kept, vertices).clip(0, max(len(kept) - 1, 0))
-    return np.where(kept[at] == vertices, at, -1)
 
 
 def _weld_levels(levels, join, chi, loops):
@@ -373,8 +253,8 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     shortened around where the weld went wrong (WELD_REFINE_RATIOS), and last with the
     cut trimmed there (:func:`_trimmed_cut`). ``levels`` are welded
     each; ``uv``, ``disk_levels`` and ``mu`` stay those of the cut disk; ``repairs``, the
-    stats of what :func:`_repair` mended first (the faces' orientation, which the cut
-    needs to tell the two sides of a path), join the result's."""
+    stats of what :func:`~qcremesh.remeshing.mend.repair_input` mended first (the faces'
+    orientation, which the cut needs to tell the two sides of a path), join the result's."""
     if options["relax"] == 0 or options["method"] == "uniform":
         raise ValueError(
             "a surface that is not a disk needs the relaxation (relax > 0) and a method other than 'uniform'"
@@ -686,24 +566,6 @@ def _join(results, stats, faces_key):
     return RemeshResult(V_out, F_out, main.uv, joined, out_data, main.disk_levels, main.mu, stats, times)
 
 
-def _upsampled(V, F, data, sizing, enough):
-    """The surface split 1-to-4 (:func:`qcremesh.mesh.subdivide.upsample`: the same
-    surface, the input vertices first) until ``enough(F)``, with ``data`` and an array
-    ``sizing`` interpolated along (data in their types): (V, F, data, sizing)."""
-    fields = [V] + [np.reshape(v, (len(V), -1)) for v in (data or {}).values()]
-    fields += [] if sizing is None or isinstance(sizing, str) else [np.reshape(sizing, (-1, 1))]
-    X = np.column_stack(fields)
-    while not enough(F):
-        X, F = upsample(X, F, 1)
-    parts = np.split(X, np.cumsum([f.shape[1] for f in fields])[:-1], axis=1)
-    fine_data = {
-        k: in_type(p.reshape((len(X),) + np.shape(v)[1:]), np.asarray(v).dtype)
-        for (k, v), p in zip((data or {}).items(), parts[1:])
-    }
-    fine_sizing = parts[-1][:, 0] if len(parts) > 1 + len(fine_data) else sizing
-    return parts[0], F, fine_data if data else data, fine_sizing
-
-
 def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, boundary_edge_length, data, stats, options):
     """:func:`remesh` of a mesh that the disk validation refused for its topology (after the
     repairs): several pieces remeshed each (:func:`_remesh_pieces`); a disk with every
@@ -736,7 +598,7 @@ def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, boundary_edge
         # map of a few large triangles is far from conformal (a 3:1 rectangle of two
         # triangles split once, 8 faces: mean q 0.85-0.86 at 200 and 2,000 faces; 0.95 /
         # 0.98 from 128 / 512)
-        V_fine, F_fine, fine_data, fine_sizing = _upsampled(
+        V_fine, F_fine, fine_data, fine_sizing = upsampled(
             V, F, data, sizing, lambda G: len(boundary_loop(G)) < len(np.unique(G)) and 4 * len(G) >= faces
         )
         result = remesh(
@@ -959,19 +821,19 @@ def remesh(
         try:
             dm = disk_conformal_map(V, F)
         except (OrientationError, DegenerateFaceError, NonManifoldError, UnreferencedVertexError) as error:
-            repaired = _repair(V, F, data, sizing, stats)
+            repaired = repair_input(V, F, data, sizing, stats)
             if repaired is None:
                 raise error
             V, F, data, sizing, kept = repaired
             if corners is not None:
-                corners = _renumbered(corners, kept)
+                corners = renumbered(corners, kept)
             # (before the map: the caps that no flip mends can be those along such edges)
             if not fixed_boundary:
-                V, F, data, sizing = _refine_long_boundary(V, F, data, sizing, stats)
+                V, F, data, sizing = refine_long_boundary(V, F, data, sizing, stats)
             dm = disk_conformal_map(V, F)
         else:
             if not fixed_boundary:
-                V, F, data, sizing = _refine_long_boundary(V, F, data, sizing, stats, dm.boundary)
+                V, F, data, sizing = refine_long_boundary(V, F, data, sizing, stats, dm.boundary)
                 if "boundary_split_vertices" in stats:
                     dm = disk_conformal_map(V, F)
     except TopologyError:
@@ -982,7 +844,7 @@ def remesh(
         check_not_soup(given_faces)
         # (a surface that is not a disk, whose repair did not cut them already)
         if not fixed_boundary and "boundary_split_vertices" not in stats:
-            V, F, data, sizing = _refine_long_boundary(V, F, data, sizing, stats)
+            V, F, data, sizing = refine_long_boundary(V, F, data, sizing, stats)
         sizing = "curvature" if curvature else sizing
         result = _remesh_not_disk(
             V, F, faces, sizing, fixed_boundary, corners, boundary_edge_length, data, stats, options
@@ -993,7 +855,7 @@ def remesh(
     if 4 * len(F) < faces and dm.mean_abs_mu > COARSE_MAP_MU:
         # A few large faces whose disk map is far from conformal (a cube's of 12, cut
         # open: mean |mu| 0.64) split 1-to-4 until they are a quarter of the faces asked for.
-        V, F, data, sizing = _upsampled(V, F, data, sizing, lambda G: 4 * len(G) >= faces)
+        V, F, data, sizing = upsampled(V, F, data, sizing, lambda G: 4 * len(G) >= faces)
         dm = disk_conformal_map(V, F)
         stats["subdivided_input"] = True
     stats.update(
