@@ -27,23 +27,11 @@ Figs. 18-20 (d), the default).
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components as graph_components
-from scipy.spatial import cKDTree
 
 from ..adaptive.sizing import check_sizing, curvature_sizing, hole_sizing, point_sizing
 from ..geometry.creases import check_crease_angle, sharp_edges
 from ..geometry.operators import doublearea
-from ..geometry.threads import query_workers
-from ..mesh.cut import (
-    cut_along_edges,
-    cut_to_disk,
-    edge_paths,
-    paths_across,
-    paths_to_boundary,
-    weld_along_paths,
-    weld_cut,
-)
+from ..mesh.cut import cut_along_edges, cut_to_disk, weld_along_paths, weld_cut
 from ..mesh.topology import (
     boundary_edges,
     boundary_loop,
@@ -51,8 +39,6 @@ from ..mesh.topology import (
     connected_components,
     euler_characteristic,
     genus,
-    nonmanifold_edges,
-    nonmanifold_vertices,
 )
 from ..mesh.validate import (
     DegenerateFaceError,
@@ -64,11 +50,12 @@ from ..mesh.validate import (
     as_mesh_arrays,
     check_not_soup,
 )
-from ..param.crowding import crowded_arcs
 from ..param.disk import disk_conformal_map
+from .cut_paths import CROWDED_SHARE, CROWDED_SHARE_FIXED, crease_cuts, crowded_cuts, split_pieces, trimmed_cut
 from .disk_remesh import MIN_BASE_FACES, output_edge_length, planned_levels, remesh_disk
 from .mend import refine_long_boundary, renumbered, repair_input, upsampled
 from .result import RemeshResult, StageTimes
+from .weld import coincident_pairs, crack_hint, join_pieces, weld_defects, weld_levels
 
 __all__ = ["METHODS", "RemeshResult", "remesh"]
 
@@ -81,41 +68,9 @@ WELD_REFINE_RATIOS = (0.5, 0.25)
 # Where it still does not, the cut's edges within this many output edges of where the weld
 # went wrong are left out, if what is left still opens the surface into a disk.
 TRIM_REACH = 3.0
-# Where the disk map gives more than CROWDED_SHARE of the boundary vertices the narrowest
-# arc (MIN_BOUNDARY_ARC of qcremesh.param.disk: crowded beyond what the landmarks
-# resolve), each run of boundary vertices crowded below CROWDED_RATIO of the mean arc per
-# unit length (crowded_arcs) over at least CROWDED_MIN_EDGES output edges is cut off and
-# remeshed on its own map. Measured on strips 8-16 times as long as wide (test_remesh's
-# strip_disk; 3, 23, 35, 44 and 51 % at the narrowest arc) at their face count, half of
-# it and 1,000 faces: mean q 0.977 / 0.970 / 0.968 -> 0.962 / 0.943 / 0.948 on the
-# strip 8 long, 0.964 / 0.960 -> 0.961 / 0.951 on the one 10 long, but 0.945 / 0.935 /
-# 0.924 -> 0.969 / 0.951 / 0.951 on the one 12 long and 0.893 / 0.894 / 0.796 -> 0.968 /
-# 0.956 / 0.953 on the one 16 long (min q 0.116 / 0.451 / 0.024 -> 0.540 / 0.668 /
-# 0.685). camel_b.obj (35 %): its legs and neck, runs 18-40 edges long. The other disk
-# meshes of ../shared/data have no vertex at the narrowest arc.
-CROWDED_SHARE = 0.3
-# With a fixed boundary (a surface cut open into a disk, whose two sides of each cut the
-# caller welds; the boundary vertices at the same points as the paths' ends are corners
-# too, so both sides keep the same vertices), above CROWDED_SHARE_FIXED: Hand1.off's cut
-# disk, 8.6 % (at its face count / half: min q 0.028 / 0.034 -> 0.396 / 0.462, Hausdorff
-# 0.33 / 0.44 -> 0.17 / 0.36 %); the cut disks of the torus, the holed disk, the sphere,
-# decimated-max and alex_3 of the tests and the benchmark have at most 1.4 %.
-CROWDED_SHARE_FIXED = 0.05
-CROWDED_RATIO = 0.1
-CROWDED_MIN_EDGES = 16
+
 # Fewest faces of a piece so cut off (else its path is not cut).
 MIN_PIECE_FACES = 16
-# Rounds of cuts across the pieces that a disk cut along its creases falls into, where
-# their own maps crowd.
-CREASE_ROUNDS = 3
-
-# Distance, in mean boundary edge lengths, within which the boundary vertices of the two
-# sides of a cut are one vertex when welded. They are the same arc length along the same
-# polyline, but each side gets its point through its own disk map's boundary angles,
-# which where the map crowds (arcs of 1e-6 rad) keep position to about 1e-9 of an edge:
-# Hand1.off at half its face count with a curvature sizing field had two seam vertices
-# 1.0x of 1e-9 edge from their twins, and its weld failed.
-WELD_TOLERANCE = 1e-7
 
 # A disk of fewer faces than a quarter of those asked for is split 1-to-4 until it has as
 # many where the mean |mu| of its disk map is above this. A cube of 12 faces at 500 / 5,000
@@ -128,120 +83,6 @@ WELD_TOLERANCE = 1e-7
 COARSE_MAP_MU = 0.3
 
 
-def _weld_levels(levels, join, chi, loops):
-    """Each level (X, F) of a remesh joined by ``join(X, F, tol)`` -> (X, F, kept) (a
-    ValueError where it cannot; ``tol`` WELD_TOLERANCE of the level's mean boundary edge
-    length) and kept where it then has Euler characteristic ``chi``, ``loops`` boundary
-    loops and only manifold edges. Returns the output level's (X, F, kept) and the
-    hierarchy, which starts above the last coarser level that does not join so, or whose
-    join dropped faces (which then no longer split 1-to-4 into the next level's); None
-    where the output level does not join."""
-
-    def joined(X, Fo):
-        try:
-            Xw, Fw, kept = join(X, Fo, _weld_tolerance(X, Fo))
-        except ValueError:
-            return None
-        ok = (
-            len(Fw) > 0
-            and euler_characteristic(Fw) == chi
-            and len(boundary_loops(Fw)) == loops
-            and not len(nonmanifold_edges(Fw))
-        )
-        return (Xw, Fw, kept) if ok else None
-
-    # the output level first: the coarser ones only where it joins
-    output = joined(*levels[-1])
-    if output is None:
-        return None
-    welded = [joined(X, Fo) for X, Fo in levels[:-1]] + [output]
-    intact = [level is not None and len(level[1]) == len(f) for level, (_, f) in zip(welded, levels)]
-    first = max([i + 1 for i, ok in enumerate(intact[:-1]) if not ok], default=0)
-    hierarchy = [level[:2] for level in welded[first:]] if intact[-1] else [welded[-1][:2]]
-    return welded[-1], hierarchy
-
-
-def _weld_tolerance(X, F):
-    """WELD_TOLERANCE of the mean boundary edge length of (X, F)."""
-    border = boundary_edges(F)
-    return WELD_TOLERANCE * np.linalg.norm(X[border[:, 0]] - X[border[:, 1]], axis=1).mean()
-
-
-def _weld_defects(X, F, segments):
-    """Where the weld of a remeshed cut disk (X, F) along its cut (``segments``, (s, 2,
-    3)) goes wrong: the points of the welded mesh at its non-manifold edges and vertices,
-    and the centroids of the faces it folds onto others (and drops), (k, 3); none where
-    it goes wrong otherwise or not at all."""
-    try:
-        Xw, Fw, _ = weld_cut(X, F, segments, _weld_tolerance(X, F))
-    except ValueError:
-        return np.zeros((0, 3))
-    # each vertex's welded one: itself, or the mean of it and its twins, the nearest
-    merged = cKDTree(Xw).query(X, workers=query_workers(len(X)))[1][F]
-    _, group, size = np.unique(np.sort(merged, axis=1), axis=0, return_inverse=True, return_counts=True)
-    folded = size[group.ravel()] > 1
-    bad = np.union1d(np.unique(nonmanifold_edges(Fw)), nonmanifold_vertices(Fw)) if len(Fw) else []
-    return np.concatenate([Xw[bad], X[F[folded]].mean(1)])
-
-
-def _trimmed_cut(V, F, cut, where, reach):
-    """The cut (edges (k, 2) of the surface (V, F)) without its edges within ``reach`` of
-    the points ``where``, the longest connected part of what is left: (F_cut, parent,
-    edges) as :func:`qcremesh.mesh.cut.cut_to_disk` gives them; None where nothing is
-    near or left, or what is left does not open the surface into a disk."""
-    if not len(where) or not len(cut):
-        return None
-    near = cKDTree(where).query(V[cut].mean(1))[0] < reach
-    rest = cut[~near]
-    if not near.any() or not len(rest):
-        return None
-    graph = sp.coo_matrix((np.ones(len(rest)), (rest[:, 0], rest[:, 1])), shape=(len(V), len(V)))
-    part = graph_components(graph, directed=False)[1][rest[:, 0]]
-    length = np.bincount(part, np.linalg.norm(V[rest[:, 0]] - V[rest[:, 1]], axis=1))
-    kept = rest[part == np.argmax(length)]
-    try:
-        F_cut, parent = cut_along_edges(F, kept, len(V))
-    except ValueError:
-        return None
-    if len(boundary_loops(F_cut)) != 1 or euler_characteristic(F_cut) != 1:
-        return None
-    return F_cut, parent, kept
-
-
-def _split_pieces(F, label, count):
-    """Each piece's vertices and faces: for piece k (``label`` (m,) the piece of each face,
-    0..count-1), the vertices its faces use (sorted) and its faces renumbered over them,
-    in their order in ``F``."""
-    by_piece = np.split(F[np.argsort(label, kind="stable")], np.cumsum(np.bincount(label, minlength=count))[:-1])
-    pieces = []
-    for G in by_piece:
-        used, local = np.unique(G, return_inverse=True)
-        pieces.append((used, local.reshape(-1, 3)))
-    return pieces
-
-
-def _coincident_pairs(V, vertices):
-    """The pairs of ``vertices`` at the same point (within 1e-9 of the bounding-box
-    diagonal), as vertex indices, (p, 2) int."""
-    vertices = np.asarray(vertices)
-    tol = 1e-9 * np.linalg.norm(np.ptp(V, axis=0))
-    return vertices[cKDTree(V[vertices]).query_pairs(tol, output_type="ndarray")]
-
-
-def _crack_hint(V, F):
-    """What an error says of boundary vertices at the same points as others: cracks
-    between faces whose shared corners were written apart (a CAD part saved face by
-    face); "" where there are none."""
-    border = np.unique(boundary_edges(F))
-    twins = np.unique(_coincident_pairs(V, border))
-    if not len(twins):
-        return ""
-    return (
-        f" ({len(twins)} of its {len(border)} boundary vertices lie at the same points as others: "
-        "cracks between faces whose shared corners are not one vertex; merge them first)"
-    )
-
-
 def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     """:func:`remesh` of a surface that is not a disk (closed, with holes, with handles):
     cut open into a disk (:func:`qcremesh.mesh.cut.cut_to_disk`), remeshed with a fixed
@@ -251,7 +92,7 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     welded shut along the cut (:func:`qcremesh.mesh.cut.weld_cut`). Where the weld fails,
     the remesh is done again: without cutting the disk where its map crowds, with edges
     shortened around where the weld went wrong (WELD_REFINE_RATIOS), and last with the
-    cut trimmed there (:func:`_trimmed_cut`). ``levels`` are welded
+    cut trimmed there (:func:`trimmed_cut`). ``levels`` are welded
     each; ``uv``, ``disk_levels`` and ``mu`` stay those of the cut disk; ``repairs``, the
     stats of what :func:`~qcremesh.remeshing.mend.repair_input` mended first (the faces'
     orientation, which the cut needs to tell the two sides of a path), join the result's."""
@@ -262,7 +103,7 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     try:
         F_cut, parent, cut = cut_to_disk(V, F, len(V))
     except ValueError as error:
-        raise TopologyError(f"cannot cut the surface open into a disk: {error}{_crack_hint(V, F)}") from error
+        raise TopologyError(f"cannot cut the surface open into a disk: {error}{crack_hint(V, F)}") from error
     edge = output_edge_length(V, F, faces)
     if isinstance(sizing, str):
         # on the surface, not on the cut disk: the two sides of a cut see the same
@@ -278,7 +119,7 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
 
     def attempt(F_cut, parent, cut, sizing, **changed):
         """The disk F_cut (the surface cut along ``cut``) remeshed and welded shut:
-        (result, the welded levels of :func:`_weld_levels` or None)."""
+        (result, the welded levels of :func:`weld_levels` or None)."""
         # Corners: where the cut ends, branches or meets the boundary.
         degree = np.bincount(cut.ravel(), minlength=len(V))
         corner = (degree > 0) & ((degree != 2) | on_boundary)
@@ -289,7 +130,7 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
             data={k: np.asarray(v)[parent] for k, v in data.items()} if data else data, **dict(options, **changed),
         )
         segments = V[cut]
-        return result, _weld_levels(result.levels, lambda X, Fo, tol: weld_cut(X, Fo, segments, tol), chi, loops)
+        return result, weld_levels(result.levels, lambda X, Fo, tol: weld_cut(X, Fo, segments, tol), chi, loops)
 
     result, welded = attempt(F_cut, parent, cut, sizing)
     if welded is None and ("crowded_cuts" in result.stats or "crease_cuts" in result.stats):
@@ -302,7 +143,7 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
         # A part of the surface thinner than about two output edges that the cut runs
         # along (a cow's tail, slit to its tip) collapses in the weld: shorter edges around
         # where it did, and once more.
-        where = _weld_defects(*result.levels[-1], V[cut])
+        where = weld_defects(*result.levels[-1], V[cut])
         if not len(where):
             break
         local = point_sizing(V, where, edge, ratio)
@@ -312,14 +153,14 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     if welded is None:
         # Still not: the cut without its part there (the slit then stops short of the
         # tail, which comes out coarse), where what is left still opens the surface.
-        trimmed = _trimmed_cut(V, F, cut, _weld_defects(*result.levels[-1], V[cut]), TRIM_REACH * edge)
+        trimmed = trimmed_cut(V, F, cut, weld_defects(*result.levels[-1], V[cut]), TRIM_REACH * edge)
         if trimmed is not None:
             F_cut, parent, cut = trimmed
             repairs = dict(repairs, cut_trimmed=True)
             result, welded = attempt(F_cut, parent, cut, sizing)
     if welded is None:
         raise TopologyError(
-            f"the remesh of the surface cut open does not weld back into its topology{_crack_hint(V, F)}"
+            f"the remesh of the surface cut open does not weld back into its topology{crack_hint(V, F)}"
         )
     # A coarse level can have a face across two copies of a branch point of the cut
     # (the corners of the disk where a handle's two loops meet), which the weld folds
@@ -330,87 +171,29 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     return RemeshResult(Vo, Fo, result.uv, levels, out_data, result.disk_levels, result.mu, stats, result.times)
 
 
-def _crowded_ends(V, F, dm, edge):
-    """The boundary vertices before and after each run that the disk map ``dm`` crowds
-    (:func:`crowded_arcs` below CROWDED_RATIO over at least CROWDED_MIN_EDGES times
-    ``edge`` of boundary), (p, 2)."""
-    bnd = dm.boundary
-    start, count, _ = crowded_arcs(V, dm.uv, bnd, CROWDED_RATIO)
-    lengths = np.linalg.norm(V[np.roll(bnd, -1)] - V[bnd], axis=1)
-    # (the run's length: its vertices' edges to the next, but the last's)
-    along = np.r_[0.0, np.cumsum(np.r_[lengths, lengths])]
-    long = (count < len(bnd) - 2) & (along[start + count - 1] - along[start] >= CROWDED_MIN_EDGES * edge)
-    return np.column_stack([bnd[(start[long] - 1) % len(bnd)], bnd[(start[long] + count[long]) % len(bnd)]])
-
-
-def _crowded_cuts(V, F, dm, faces):
-    """Paths across the disk map ``dm``'s crowded boundary runs (:func:`_crowded_ends` for
-    the output edge length of ``faces`` faces), each from the boundary vertex before a run
-    to the one after it through interior vertices
-    (:func:`qcremesh.mesh.cut.paths_across`); [] where there is none."""
-    edge = output_edge_length(V, F, faces)
-    return [p for p in paths_across(V, F, _crowded_ends(V, F, dm, edge)) if p is not None]
-
-
-def _crease_cuts(V, F, sharp, paths, faces):
-    """Paths to cut a disk along so that its ``sharp`` edges ((k, 2), from
-    :func:`qcremesh.geometry.creases.sharp_edges`) become piece borders: those edges, the
-    paths that join their parts with no boundary vertex to the boundary
-    (:func:`qcremesh.mesh.cut.paths_to_boundary`), the crowded ``paths`` (from
-    :func:`_crowded_cuts`) and, up to CREASE_ROUNDS times, the crowded cuts of each
-    piece whose own disk map crowds more than CROWDED_SHARE_FIXED of its boundary (the
-    ring between two creases round a plateau is a strip), split into paths that meet
-    only at their ends (:func:`qcremesh.mesh.cut.edge_paths`, which end at the boundary
-    and at branch points; a closed one starts and ends at the same vertex, which
-    :func:`qcremesh.mesh.cut.weld_along_paths` takes). ``faces`` is the output's face
-    count, shared among the pieces by area."""
-
-    def edges_of(paths):
-        return [np.column_stack([p[:-1], p[1:]]) for p in paths]
-
-    cut = np.concatenate([sharp] + edges_of(paths_to_boundary(V, F, sharp) + paths))
-    for _ in range(CREASE_ROUNDS):
-        F_cut, parent = cut_along_edges(F, cut, len(V))
-        count, label = connected_components(F_cut, len(parent))
-        area = np.bincount(label, doublearea(V[parent], F_cut), count)
-        more = []
-        for k, (used, Fk) in enumerate(_split_pieces(F_cut, label, count)):
-            Vk = V[parent[used]]
-            try:
-                dm = disk_conformal_map(Vk, Fk)
-            except MeshError:
-                continue
-            if dm.narrowest_arcs > CROWDED_SHARE_FIXED * len(dm.boundary):
-                share = max(faces * area[k] / area.sum(), 1.0)
-                more += [parent[used][p] for p in _crowded_cuts(Vk, Fk, dm, share)]
-        if not more:
-            break
-        cut = np.concatenate([cut] + edges_of(more))
-    return edge_paths(cut, len(V), stops=boundary_edges(F).ravel())
-
-
 def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, options, name="crowded"):
-    """:func:`remesh` of a disk cut along ``paths`` (from :func:`_crowded_cuts`, where
-    its map crowds parts of the boundary, or :func:`_crease_cuts`) into pieces, each
+    """:func:`remesh` of a disk cut along ``paths`` (from :func:`crowded_cuts`, where
+    its map crowds parts of the boundary, or :func:`crease_cuts`) into pieces, each
     remeshed on its own map with a share of the faces by area (counted times sizing^-2
     with a ``sizing`` field, (n,) or None), a fixed boundary whose corners are the
-    paths' ends and the input vertices ``corners`` on it, and the boundary edge length planned for the whole (so that both
-    sides of a path get the same vertices; in the metric of the sizing field, which each
-    piece scales to a largest value of 1, so with the edge length scaled as the piece's
-    field), all at the same levels, and welded along the paths
+    paths' ends and the input vertices ``corners`` on it, and the boundary edge length
+    planned for the whole (so that both sides of a path get the same vertices; in the
+    metric of the sizing field, which each piece scales to a largest value of 1, so with
+    the edge length scaled as the piece's field), all at the same levels, and welded along the paths
     (:func:`qcremesh.mesh.cut.weld_along_paths`, every level; a coarse level that does
     not weld into a disk is dropped). A path that would cut off a piece of fewer than
     MIN_PIECE_FACES faces is not cut; nor, for the crowded cuts (``name`` "crowded"), one
     that would cut off a piece without an interior vertex, or planned at fewer levels
-    than one below the largest piece (:func:`~qcremesh.remeshing.disk_remesh.planned_levels`; every piece would take
-    them: Hand1.off's cut disk at half its face count, two pieces of a few hundred faces
-    at no level, took 11.9 s instead of 5.3 s, mean q 0.966 instead of 0.987). The
+    than one below the largest piece
+    (:func:`~qcremesh.remeshing.disk_remesh.planned_levels`; every piece would take them:
+    Hand1.off's cut disk at half its face count, two pieces of a few hundred faces at no
+    level, took 11.9 s instead of 5.3 s, mean q 0.966 instead of 0.987). The
     creases' cuts keep such pieces (a mesa whose top is a sixth of its area lost its
     rim's crease to the level rule, Hausdorff 1.3 %; a step's steep band one face wide,
     a strip, lost both its creases), and a strip is split 1-to-4 first. Where a piece is
     then not a disk (a crease's closed loop whose join to the boundary went with a small
     piece), None.
-    Joined as :func:`_join` with ``stats[name + "_cuts"]`` (the paths cut) and
+    Joined as :func:`join_pieces` with ``stats[name + "_cuts"]`` (the paths cut) and
     ``stats[name + "_piece_faces"]``; None where the output does not weld into a disk."""
     density = None if sizing is None else sizing.max() / sizing
     while True:
@@ -430,7 +213,7 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
         on_boundary = np.zeros(len(parent), dtype=bool)
         on_boundary[boundary_edges(F_cut).ravel()] = True
         pieces, small, members, inner = [], [], [], []
-        for k, (used, local) in enumerate(_split_pieces(F_cut, label, count)):
+        for k, (used, local) in enumerate(split_pieces(F_cut, label, count)):
             members.append(parent[used])
             piece_data = {key: np.asarray(v)[parent][used] for key, v in data.items()} if data else data
             share = int(round(faces * area[k] / area.sum()))
@@ -480,9 +263,9 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
         if min(used) == max(used):
             break
         levels = min(used)
-    joined = _join(results, dict(stats, **{f"{name}_cuts": len(paths)}), f"{name}_piece_faces")
+    joined = join_pieces(results, dict(stats, **{f"{name}_cuts": len(paths)}), f"{name}_piece_faces")
     segments = [V[p] for p in paths]
-    welded = _weld_levels(joined.levels, lambda X, Fo, tol: weld_along_paths(X, Fo, segments, tol), 1, 1)
+    welded = weld_levels(joined.levels, lambda X, Fo, tol: weld_along_paths(X, Fo, segments, tol), 1, 1)
     if welded is None:
         return None
     (Vo, Fo, kept), hierarchy = welded
@@ -495,11 +278,11 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
 def _remesh_pieces(V, F, label, count, faces, sizing, fixed_boundary, data, repairs, options):
     """:func:`remesh` of a mesh in several connected pieces (``label`` (m,), the piece of
     each face, 0..count-1): each piece remeshed on its own with a share of ``faces``
-    proportional to its area (at least 4), and the results joined (:func:`_join`, with
+    proportional to its area (at least 4), and the results joined (:func:`join_pieces`, with
     ``stats["pieces"]``). A piece's error names the piece."""
     area = np.bincount(label, doublearea(V, F), count)
     results = []
-    for k, (used, local) in enumerate(_split_pieces(F, label, count)):
+    for k, (used, local) in enumerate(split_pieces(F, label, count)):
         share = max(int(round(faces * area[k] / area.sum())), 4)
         piece_sizing = sizing if sizing is None or isinstance(sizing, str) else np.asarray(sizing)[used]
         piece_data = {name: np.asarray(v)[used] for name, v in data.items()} if data else data
@@ -512,58 +295,7 @@ def _remesh_pieces(V, F, label, count, faces, sizing, fixed_boundary, data, repa
             )
         except MeshError as error:
             raise type(error)(f"piece {k + 1} of {count} ({len(local)} faces, {share} asked for): {error}") from error
-    return _join(results, dict(repairs, pieces=count), "piece_faces")
-
-
-def _join(results, stats, faces_key):
-    """The remeshes of several pieces (``results``) as one :class:`RemeshResult`.
-
-    The levels are those all pieces have, from the output down (a piece with fewer
-    levels than another starts the hierarchy at its own base mesh); the vertices are
-    numbered level by level, every piece's coarser ones first. ``uv``, ``disk_levels``,
-    ``mu`` and the stats are those of the largest piece (the one with the most output
-    faces), joined with ``stats`` and ``stats[faces_key]`` (each piece's output faces),
-    but the sharpest corner, its quality bound, the crowded share of the
-    boundary and the draws, the worst piece's; the times are summed."""
-    count = len(results)
-    depth = min(len(r.levels) for r in results)
-    levels = [[r.levels[len(r.levels) - depth + i] for r in results] for i in range(depth)]
-    # Global numbering: level by level, piece by piece, the vertices new at that level.
-    counts = np.array([[len(X) for X, _ in level] for level in levels])  # (depth, count)
-    new = np.diff(np.vstack([np.zeros((1, count), dtype=np.int64), counts]), axis=0)
-    start = np.cumsum(np.r_[0, new.ravel()])[:-1].reshape(depth, count)
-    number = []
-    for k in range(count):
-        number.append(np.concatenate([start[i, k] + np.arange(new[i, k]) for i in range(depth)]))
-    total = int(counts[-1].sum())
-    joined = []
-    for i, level in enumerate(levels):
-        X = np.zeros((int(counts[i].sum()), 3))
-        for k, (Xk, _) in enumerate(level):
-            X[number[k][: len(Xk)]] = Xk
-        joined.append((X, np.concatenate([number[k][Gk] for k, (_, Gk) in enumerate(level)])))
-    out_data = {}
-    for name in results[0].data:
-        first = np.asarray(results[0].data[name])
-        values = np.zeros((total,) + first.shape[1:], dtype=first.dtype)
-        for k, r in enumerate(results):
-            values[number[k]] = r.data[name]
-        out_data[name] = values
-    largest = max(range(count), key=lambda k: len(results[k].F))
-    main = results[largest]
-    stats = {**stats, **main.stats, faces_key: [len(r.F) for r in results]}
-    # What the warnings read is the worst piece's.
-    for name, worst in (("sharpest_corner_degrees", min), ("corner_quality_bound", min),
-                        ("param_narrowest_share", max), ("draws", max)):
-        values = [r.stats[name] for r in results if name in r.stats]
-        if values:
-            stats[name] = worst(values)
-    times = {}
-    for r in results:
-        for name, t in r.times.items():
-            times[name] = times.get(name, 0.0) + t
-    V_out, F_out = joined[-1]
-    return RemeshResult(V_out, F_out, main.uv, joined, out_data, main.disk_levels, main.mu, stats, times)
+    return join_pieces(results, dict(repairs, pieces=count), "piece_faces")
 
 
 def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, boundary_edge_length, data, stats, options):
@@ -876,17 +608,17 @@ def remesh(
     attempts = []
     if boundary_edge_length is None and relax > 0 and method != "uniform":
         # (the pieces themselves, with a boundary edge length, are not cut again)
-        crowded_paths = _crowded_cuts(V, F, dm, faces) if cut_crowded and crowded else []
+        crowded_paths = crowded_cuts(V, F, dm, faces) if cut_crowded and crowded else []
         if creases is not None:
             sharp = sharp_edges(V, F, creases)
             stats["crease_edges"] = len(sharp)
             if len(sharp):
-                attempts.append(("crease", _crease_cuts(V, F, sharp, crowded_paths, faces)))
+                attempts.append(("crease", crease_cuts(V, F, sharp, crowded_paths, faces)))
         if crowded_paths:
             attempts.append(("crowded", crowded_paths))
     # the boundary vertices at the same points as the paths' ends (their twins on the
     # other side of a cut that the caller welds) are corners too
-    twins = _coincident_pairs(V, bnd) if fixed_boundary and attempts else None
+    twins = coincident_pairs(V, bnd) if fixed_boundary and attempts else None
     for name, paths in attempts:
         given = np.zeros(0, dtype=np.int64) if corners is None else corners
         if twins is not None:
