@@ -19,6 +19,7 @@ __all__ = [
     "NonManifoldError",
     "OrientationError",
     "TopologyError",
+    "as_face_array",
     "as_mesh_arrays",
     "check_triangle_mesh",
     "check_disk",
@@ -87,9 +88,30 @@ def as_mesh_arrays(V, F):
     ------
     InvalidIndexError
     """
-    V, F = np.asarray(V), np.asarray(F)
+    V = np.asarray(V)
     if V.dtype == bool or not np.issubdtype(V.dtype, np.number) or np.iscomplexobj(V):
         raise InvalidIndexError(f"vertex coordinates must be real numbers, got {V.dtype}")
+    return V.astype(np.float64, copy=False), as_face_array(F)
+
+
+def as_face_array(F):
+    """Face indices as an int64 array, where the conversion keeps their values (see
+    :func:`as_mesh_arrays`): booleans, non-numbers and indices that are not whole
+    numbers are refused.
+
+    Parameters
+    ----------
+    F : (m, 3) array_like of integers
+
+    Returns
+    -------
+    F : (m, 3) int64
+
+    Raises
+    ------
+    InvalidIndexError
+    """
+    F = np.asarray(F)
     if F.dtype == bool or not (np.issubdtype(F.dtype, np.integer) or np.issubdtype(F.dtype, np.floating)):
         raise InvalidIndexError(f"face indices must be integers, got {F.dtype}")
     if np.issubdtype(F.dtype, np.floating):
@@ -98,7 +120,7 @@ def as_mesh_arrays(V, F):
             raise InvalidIndexError(
                 f"face indices must be whole numbers, got {len(fractional)} that are not, e.g. {fractional[0]}"
             )
-    return V.astype(np.float64, copy=False), F.astype(np.int64, copy=False)
+    return F.astype(np.int64, copy=False)
 
 
 def check_triangle_mesh(V, F):
