@@ -2,6 +2,7 @@ import numpy as np
 import pytest
 
 from conftest import DATA, grid_disk, shared
+from qcremesh import curvature_sizing, linear_beltrami_solver, mesh_quality, teichmuller_map
 from qcremesh.mesh import validate as v
 from qcremesh.mesh.io import read_mesh
 
@@ -66,6 +67,43 @@ def test_as_mesh_arrays_keeps_the_values_or_refuses():
         v.as_mesh_arrays(uv, F > 3)
     with pytest.raises(v.InvalidIndexError, match="^vertex coordinates must be real numbers, got complex128$"):
         v.as_mesh_arrays(uv + 1j, F)
+
+
+@pytest.mark.parametrize(
+    "defect, message",
+    [
+        ("out of range", r"^face indices must lie in 0\.\.15, found 0\.\.17$"),
+        ("negative", r"^face indices must lie in 0\.\.15, found -1\.\.15$"),
+        ("quads", r"^faces must be a non-empty \(m, 3\) array, got shape \(18, 4\)$"),
+        ("empty", r"^faces must be a non-empty \(m, 3\) array, got shape \(0, 3\)$"),
+        ("flat", r"^faces must be a non-empty \(m, 3\) array, got shape \(54,\)$"),
+        ("not finite", r"^vertex coordinates must be finite$"),
+    ],
+)
+def test_entry_points_refuse_faces_that_do_not_index_the_vertices(defect, message):
+    """What as_mesh_arrays refuses, every entry point that takes it refuses with the same
+    words (numpy's IndexError, a failed factorization or a quality of NaN before)."""
+    uv, F = grid_disk(4)
+    V = lift(uv)
+    G = {
+        "out of range": np.where(F == 5, 17, F),
+        "negative": np.where(F == 5, -1, F),
+        "quads": np.column_stack([F, F[:, :1]]),
+        "empty": F[:0],
+        "flat": F.ravel(),
+    }.get(defect, F)
+    if defect == "not finite":
+        V = np.where(np.arange(len(V))[:, None] == 3, np.nan, V)
+    calls = [
+        lambda: v.as_mesh_arrays(V, G),
+        lambda: mesh_quality(V, G),
+        lambda: curvature_sizing(V, G, 0.2),
+        lambda: linear_beltrami_solver(V[:, :2], G, np.zeros(len(F)), np.array([0, 1]), V[[0, 1], :2]),
+        lambda: teichmuller_map(V[:, :2], G, np.array([0]), V[[0], :2]),
+    ]
+    for call in calls:
+        with pytest.raises(v.InvalidIndexError, match=message):
+            call()
 
 
 def test_each_defect_message():

@@ -13,6 +13,7 @@ from scipy.spatial import cKDTree
 from ..geometry.operators import vertex_normals
 from ..geometry.threads import query_workers
 from ..mesh.topology import boundary_loops
+from ..mesh.validate import as_mesh_arrays
 
 __all__ = ["check_sizing", "curvature_sizing", "hole_sizing", "point_sizing"]
 
@@ -82,8 +83,9 @@ def curvature_sizing(V, F, edge_length, *, min_ratio=0.6, quantile=0.8, gradatio
         raise ValueError("min_ratio must be in (0, 1]")
     if not 0 < quantile <= 1:
         raise ValueError("quantile must be in (0, 1]")
-    V = np.asarray(V, dtype=np.float64)
-    F = np.asarray(F, dtype=np.int64)
+    if not edge_length > 0:
+        raise ValueError(f"edge_length must be positive, got {edge_length}")
+    V, F = as_mesh_arrays(V, F)
     n = len(V)
     h = float(edge_length)
     normal = vertex_normals(V, F)

@@ -69,19 +69,20 @@ def _plural(n, word):
 
 def as_mesh_arrays(V, F):
     """Vertices as float64 and faces as int64 arrays, as the algorithms here take them,
-    where the conversion keeps their values: complex coordinates (whose imaginary part
-    numpy drops), face indices that are not whole numbers (numpy truncates 2.5 to 2) and
-    booleans are refused. Floating-point indices that are whole numbers (MATLAB's
-    doubles) are taken.
+    where the conversion keeps their values and the faces index the vertices: complex
+    coordinates (whose imaginary part numpy drops), coordinates that are not finite,
+    face indices that are not whole numbers (numpy truncates 2.5 to 2), booleans, faces
+    that are not triangles and indices out of range are refused. Floating-point indices
+    that are whole numbers (MATLAB's doubles) are taken.
 
     Parameters
     ----------
-    V : (n, 3) array_like of real numbers
-    F : (m, 3) array_like of integers
+    V : (n, d) array_like of real numbers
+    F : (m, 3) array_like of integers in 0..n-1
 
     Returns
     -------
-    V : (n, 3) float64
+    V : (n, d) float64
     F : (m, 3) int64
 
     Raises
@@ -91,17 +92,22 @@ def as_mesh_arrays(V, F):
     V = np.asarray(V)
     if V.dtype == bool or not np.issubdtype(V.dtype, np.number) or np.iscomplexobj(V):
         raise InvalidIndexError(f"vertex coordinates must be real numbers, got {V.dtype}")
-    return V.astype(np.float64, copy=False), as_face_array(F)
+    F = as_face_array(F, len(V))
+    if not np.all(np.isfinite(V)):
+        raise InvalidIndexError("vertex coordinates must be finite")
+    return V.astype(np.float64, copy=False), F
 
 
-def as_face_array(F):
+def as_face_array(F, n=None):
     """Face indices as an int64 array, where the conversion keeps their values (see
-    :func:`as_mesh_arrays`): booleans, non-numbers and indices that are not whole
-    numbers are refused.
+    :func:`as_mesh_arrays`): a non-empty (m, 3) array of whole numbers in 0..n-1
+    (non-negative without ``n``); booleans and non-numbers are refused.
 
     Parameters
     ----------
     F : (m, 3) array_like of integers
+    n : int, optional
+        Number of vertices.
 
     Returns
     -------
@@ -112,6 +118,8 @@ def as_face_array(F):
     InvalidIndexError
     """
     F = np.asarray(F)
+    if F.ndim != 2 or F.shape[1] != 3 or len(F) == 0:
+        raise InvalidIndexError(f"faces must be a non-empty (m, 3) array, got shape {F.shape}")
     if F.dtype == bool or not (np.issubdtype(F.dtype, np.integer) or np.issubdtype(F.dtype, np.floating)):
         raise InvalidIndexError(f"face indices must be integers, got {F.dtype}")
     if np.issubdtype(F.dtype, np.floating):
@@ -120,7 +128,12 @@ def as_face_array(F):
             raise InvalidIndexError(
                 f"face indices must be whole numbers, got {len(fractional)} that are not, e.g. {fractional[0]}"
             )
-    return F.astype(np.int64, copy=False)
+    F = F.astype(np.int64, copy=False)
+    low, high = F.min(), F.max()
+    if low < 0 or (n is not None and high >= n):
+        bound = "0.." if n is None else f"0..{n - 1}"
+        raise InvalidIndexError(f"face indices must lie in {bound}, found {low}..{high}")
+    return F
 
 
 def check_triangle_mesh(V, F):

@@ -49,8 +49,8 @@ def tutte_embedding(F, bnd=None, n=None, *, return_solver=False):
     Parameters
     ----------
     F : (m, 3) int
-        A disk-topology mesh (whole-number floats are taken, other indices refused:
-        :func:`qcremesh.mesh.validate.as_face_array`).
+        A disk-topology mesh (whole-number floats are taken; indices that are not, or
+        out of range, refused: :func:`qcremesh.mesh.validate.as_face_array`).
     bnd : (b,) int, optional
         Its boundary loop; :func:`qcremesh.mesh.topology.boundary_loop` by default.
         Counter-clockwise when the loop keeps the interior on its left, which is the
@@ -68,7 +68,7 @@ def tutte_embedding(F, bnd=None, n=None, *, return_solver=False):
     solver : SPDSolver
         Only with ``return_solver``.
     """
-    F = as_face_array(F)
+    F = as_face_array(F, n)
     n = int(F.max()) + 1 if n is None else n
     bnd = boundary_loop(F) if bnd is None else np.asarray(bnd)
     uv, solver = dirichlet_solve(uniform_laplacian(F, n), bnd, map_vertices_to_circle(None, bnd))
