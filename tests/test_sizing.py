@@ -60,6 +60,8 @@ def test_curvature_sizing_is_one_on_a_plane_and_shorter_on_a_bump():
     assert np.all(np.abs(s[pairs[:, 0]] - s[pairs[:, 1]]) <= 1.1 * 0.2 * d / h)
     with pytest.raises(ValueError, match=r"^min_ratio must be in \(0, 1\]$"):
         curvature_sizing(V, F, h, min_ratio=0)
+    with pytest.raises(ValueError, match=r"^edge_length must be positive, got 0\.0$"):
+        curvature_sizing(V, F, 0.0)
 
 
 def test_arc_length_and_boundary_landmarks_in_the_metric_of_a_density():
