@@ -5,6 +5,7 @@ import sys
 
 import numpy as np
 import pytest
+from scipy.spatial import Delaunay
 
 from conftest import DATA
 from qcremesh import read_mesh, remesh
@@ -78,6 +79,7 @@ def test_a_numba_that_cannot_be_imported_leaves_the_numpy_search(monkeypatch):
     assert compiled.closest_point_near_kernel() is None
     assert compiled.smooth_targets_kernel() is None
     assert pair_distances_kernel() is None
+    assert geometry_compiled.grid_nearest_kernel() is None
     got = onsurface.closest_point_near(P, start, V, F, vertex_faces)
     expected = onsurface._closest_point_near(P, start, V, F, vertex_faces, 4)
     for e, g in zip(expected, got):
@@ -120,3 +122,43 @@ def test_point_mesh_distance_is_the_same_without_the_compiled_distances(monkeypa
     plain = point_mesh_distance(P, V, F)
     for a, b in zip(fast, plain):
         np.testing.assert_array_equal(a, b)
+
+
+def test_grid_distances_are_the_search_of_balls_ones_to_the_last_bit(monkeypatch):
+    """Points on a real scan's faces, vertices and edges, near it, and far from it (beyond
+    the grid's shells, which the grid leaves uncertified to the search of balls): the
+    distances of the grid search are those of the search of balls, compiled or not, bit
+    for bit; so are a flat grid's (one cube thick) and a mesh with one face far larger
+    than the rest."""
+    V, F = read_mesh(DATA / "human_face.obj")
+    diag = np.linalg.norm(np.ptp(V, axis=0))
+    rng = np.random.default_rng(7)
+    f = rng.integers(0, len(F), 20000)
+    on = (V[F[f]] * rng.dirichlet([1, 1, 1], len(f))[:, :, None]).sum(1)
+    P = np.r_[
+        on,
+        V[F[f[:2000], 0]],
+        (V[F[f[:2000], 0]] + V[F[f[:2000], 1]]) / 2,
+        on[:5000] + rng.normal(0.0, 0.003 * diag, (5000, 3)),
+        on[:500] + rng.normal(0.0, 0.3 * diag, (500, 3)),
+        rng.uniform(-5, 5, (100, 3)) * diag,
+    ]
+    grid = distance._distance_to_mesh(P, V, F)
+    balls = distance._nearest_face(P, V, F)[0]
+    np.testing.assert_array_equal(grid, balls)
+    _, _, certified = geometry_compiled.grid_nearest_kernel()(
+        P, V, F.astype(np.int64), *distance._face_grid(V, F.astype(np.int64)), distance.GRID_SHELLS
+    )
+    assert certified[:29000].all() and not certified[-100:].any()
+    monkeypatch.setattr(distance, "pair_distances_kernel", lambda: None)
+    np.testing.assert_array_equal(distance._nearest_face(P, V, F)[0], grid)
+    monkeypatch.undo()
+    g = np.linspace(0.0, 1.0, 30)
+    uv = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+    T = Delaunay(uv).simplices.astype(np.int64)
+    flat = np.column_stack([uv, np.zeros(len(uv))])
+    Q = rng.uniform(-0.5, 1.5, (3000, 3))
+    np.testing.assert_array_equal(distance._distance_to_mesh(Q, flat, T), distance._nearest_face(Q, flat, T)[0])
+    big = np.r_[flat, [[0.0, 0.0, 5.0], [50.0, 0.0, 5.0], [0.0, 50.0, 5.0]]]
+    T2 = np.r_[T, [[len(flat), len(flat) + 1, len(flat) + 2]]]
+    np.testing.assert_array_equal(distance._distance_to_mesh(Q, big, T2), distance._nearest_face(Q, big, T2)[0])

@@ -9,6 +9,9 @@ over many small gathers.
   :func:`~qcremesh.geometry.distance.point_mesh_distance`, which measures a few
   candidate faces per point (:func:`pair_distances_kernel`), and the closest-point search
   on the surface of :mod:`qcremesh.remeshing.compiled` (:func:`point_triangle_kernel`).
+- The search for the nearest face of many points in a uniform grid of the faces
+  (:func:`grid_nearest_kernel`, with the same point-triangle distances), for the
+  distances between two surfaces, which measure every sample of one against the other.
 - The test that a guessed nearest point is the nearest (:func:`guess_is_nearest_kernel`),
   which spares Lloyd's iteration most of its nearest-generator searches; it certifies
   only what the search would answer, so the owners are the same with it and without.
@@ -18,7 +21,13 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["guess_is_nearest_kernel", "numba_compile", "pair_distances_kernel", "point_triangle_kernel"]
+__all__ = [
+    "grid_nearest_kernel",
+    "guess_is_nearest_kernel",
+    "numba_compile",
+    "pair_distances_kernel",
+    "point_triangle_kernel",
+]
 
 # Numba is imported, and the functions compiled (or loaded from its cache), at the first
 # call that asks for them, not with qcremesh (0.3 s).
@@ -83,6 +92,63 @@ def _pair_distances(P, V, F, i, j):
     return out
 
 
+def _grid_nearest(P, V, F, lo, cell, dims, start, members, shells):
+    """The nearest face of every point ``P[i]`` (q, 3) among the faces of a uniform grid
+    (:func:`grid_nearest_kernel`) and whether it is certified: (q,) distances, (q,)
+    faces, (q,) bool."""
+    q = P.shape[0]
+    dist = np.full(q, np.inf)
+    face = np.full(q, -1, dtype=np.int64)
+    certified = np.zeros(q, dtype=np.bool_)
+    c = np.empty(3, dtype=np.int64)
+    done_lo, done_hi = np.empty(3, dtype=np.int64), np.empty(3, dtype=np.int64)
+    box_lo, box_hi = np.empty(3, dtype=np.int64), np.empty(3, dtype=np.int64)
+    largest = (2 * shells + 1) ** 3
+    for i in range(q):
+        for a in range(3):
+            c[a] = min(max(int(np.floor((P[i, a] - lo[a]) / cell)), 0), dims[a] - 1)
+            done_lo[a], done_hi[a] = c[a], c[a] - 1  # nothing searched yet
+        best, arg = np.inf, -1
+        r = 0
+        while True:
+            if best < np.inf:
+                # the cubes that the ball of radius best around the point meets (a little
+                # wider, for the rounding of the bounds)
+                reach = best * (1.0 + 1e-9)
+                for a in range(3):
+                    box_lo[a] = min(max(int(np.floor((P[i, a] - reach - lo[a]) / cell)), 0), dims[a] - 1)
+                    box_hi[a] = min(max(int(np.floor((P[i, a] + reach - lo[a]) / cell)), 0), dims[a] - 1)
+                last = True
+            else:
+                # a shell of cubes further out, until one holds a face
+                for a in range(3):
+                    box_lo[a], box_hi[a] = max(c[a] - r, 0), min(c[a] + r, dims[a] - 1)
+                last = False
+                r += 1
+            cubes = (box_hi[0] - box_lo[0] + 1) * (box_hi[1] - box_lo[1] + 1) * (box_hi[2] - box_lo[2] + 1)
+            if cubes > largest:
+                break
+            for x in range(box_lo[0], box_hi[0] + 1):
+                for y in range(box_lo[1], box_hi[1] + 1):
+                    for z in range(box_lo[2], box_hi[2] + 1):
+                        searched = done_lo[0] <= x <= done_hi[0] and done_lo[1] <= y <= done_hi[1]
+                        if searched and done_lo[2] <= z <= done_hi[2]:
+                            continue
+                        at = (x * dims[1] + y) * dims[2] + z
+                        for k in range(start[at], start[at + 1]):
+                            f = members[k]
+                            d = _point_triangle(P[i, 0], P[i, 1], P[i, 2], V, F[f, 0], F[f, 1], F[f, 2])[0]
+                            if d < best or (d == best and f < arg):
+                                best, arg = d, f
+            for a in range(3):
+                done_lo[a], done_hi[a] = min(done_lo[a], box_lo[a]), max(done_hi[a], box_hi[a])
+            if last:
+                certified[i] = True
+                break
+        dist[i], face[i] = best, arg
+    return dist, face, certified
+
+
 def _guess_is_nearest(Q, X, guess, neighbours, near2, far2):
     """Whether point ``X[guess[i]]`` is strictly the nearest point of X to ``Q[i]``, for
     every i, certified by :func:`guess_is_nearest_kernel`'s test: (q,) bool."""
@@ -124,7 +190,7 @@ def numba_compile(func):
 
 def _compile():
     """Compile the kernels at the first call; whether they are."""
-    global _state, _dot, _cross, _edge, _point_triangle, _pair_distances, _guess_is_nearest
+    global _state, _dot, _cross, _edge, _point_triangle, _pair_distances, _guess_is_nearest, _grid_nearest
     if _state is None:
         try:
             import numba  # noqa: F401
@@ -134,6 +200,7 @@ def _compile():
             _dot, _cross, _edge = numba_compile(_dot), numba_compile(_cross), numba_compile(_edge)
             _point_triangle, _pair_distances = numba_compile(_point_triangle), numba_compile(_pair_distances)
             _guess_is_nearest = numba_compile(_guess_is_nearest)
+            _grid_nearest = numba_compile(_grid_nearest)
             _state = True
     return _state
 
@@ -152,6 +219,21 @@ def pair_distances_kernel():
     index arrays ``i``, ``j`` (k,) int64, as ``point_triangle_distance(P[i], *V[F[j]].
     transpose(1, 0, 2))[0]``; None where Numba cannot be imported."""
     return _pair_distances if _compile() else None
+
+
+def grid_nearest_kernel():
+    """The compiled ``grid_nearest(P, V, F, lo, cell, dims, start, members, shells) ->
+    (dist, face, certified)``: for every point of P (q, 3), the distance to the nearest
+    face of the mesh (V (n, 3) float, F (m, 3) int64) and that face (the lowest index in a
+    tie), searched in a uniform grid of cubes of side ``cell`` from the corner ``lo``
+    (3,), ``dims`` (3,) int64 cubes along the axes, cube (x, y, z) holding the faces
+    ``members[start[i]:start[i + 1]]`` for i = (x dims[1] + y) dims[2] + z (every face
+    in each cube its bounding box meets). The cubes around the point's own (the nearest
+    one, for a point outside the grid) are searched shell by shell, out to ``shells``
+    cubes away, until no face in a cube not searched can be nearer than the nearest
+    found: the distance is then exact (``certified``); a point farther from the faces
+    than that is not certified. None where Numba cannot be imported."""
+    return _grid_nearest if _compile() else None
 
 
 def guess_is_nearest_kernel():
