@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = [
+    "face_grid_kernel",
     "grid_nearest_kernel",
     "guess_is_nearest_kernel",
     "numba_compile",
@@ -90,6 +91,43 @@ def _pair_distances(P, V, F, i, j):
         p, f = i[k], j[k]
         out[k] = _point_triangle(P[p, 0], P[p, 1], P[p, 2], V, F[f, 0], F[f, 1], F[f, 2])[0]
     return out
+
+
+def _face_cubes(V, F, f, lo, cell, dims, first, last):
+    """The range of cubes of a uniform grid that face f's bounding box meets, along each
+    axis, into ``first`` and ``last`` (3,)."""
+    for a in range(3):
+        low = min(V[F[f, 0], a], V[F[f, 1], a], V[F[f, 2], a])
+        high = max(V[F[f, 0], a], V[F[f, 1], a], V[F[f, 2], a])
+        first[a] = min(max(int(np.floor((low - lo[a]) / cell)), 0), dims[a] - 1)
+        last[a] = min(max(int(np.floor((high - lo[a]) / cell)), 0), dims[a] - 1)
+
+
+def _face_grid(V, F, lo, cell, dims):
+    """The faces in each cube of a uniform grid (:func:`grid_nearest_kernel`): (start,
+    members), every face in each cube its bounding box meets, in face order."""
+    cells = dims[0] * dims[1] * dims[2]
+    first, last = np.empty(3, dtype=np.int64), np.empty(3, dtype=np.int64)
+    start = np.zeros(cells + 1, dtype=np.int64)
+    for f in range(F.shape[0]):
+        _face_cubes(V, F, f, lo, cell, dims, first, last)
+        for x in range(first[0], last[0] + 1):
+            for y in range(first[1], last[1] + 1):
+                for z in range(first[2], last[2] + 1):
+                    start[(x * dims[1] + y) * dims[2] + z + 1] += 1
+    for c in range(cells):
+        start[c + 1] += start[c]
+    members = np.empty(start[cells], dtype=np.int64)
+    fill = start[:-1].copy()
+    for f in range(F.shape[0]):
+        _face_cubes(V, F, f, lo, cell, dims, first, last)
+        for x in range(first[0], last[0] + 1):
+            for y in range(first[1], last[1] + 1):
+                for z in range(first[2], last[2] + 1):
+                    at = (x * dims[1] + y) * dims[2] + z
+                    members[fill[at]] = f
+                    fill[at] += 1
+    return start, members
 
 
 def _grid_nearest(P, V, F, lo, cell, dims, start, members, shells):
@@ -190,7 +228,8 @@ def numba_compile(func):
 
 def _compile():
     """Compile the kernels at the first call; whether they are."""
-    global _state, _dot, _cross, _edge, _point_triangle, _pair_distances, _guess_is_nearest, _grid_nearest
+    global _state, _dot, _cross, _edge, _point_triangle, _pair_distances, _guess_is_nearest
+    global _face_cubes, _face_grid, _grid_nearest
     if _state is None:
         try:
             import numba  # noqa: F401
@@ -200,6 +239,7 @@ def _compile():
             _dot, _cross, _edge = numba_compile(_dot), numba_compile(_cross), numba_compile(_edge)
             _point_triangle, _pair_distances = numba_compile(_point_triangle), numba_compile(_pair_distances)
             _guess_is_nearest = numba_compile(_guess_is_nearest)
+            _face_cubes, _face_grid = numba_compile(_face_cubes), numba_compile(_face_grid)
             _grid_nearest = numba_compile(_grid_nearest)
             _state = True
     return _state
@@ -219,6 +259,13 @@ def pair_distances_kernel():
     index arrays ``i``, ``j`` (k,) int64, as ``point_triangle_distance(P[i], *V[F[j]].
     transpose(1, 0, 2))[0]``; None where Numba cannot be imported."""
     return _pair_distances if _compile() else None
+
+
+def face_grid_kernel():
+    """The compiled ``face_grid(V, F, lo, cell, dims) -> (start, members)``: the grid of
+    the faces that :func:`grid_nearest_kernel` searches (every face in each cube its
+    bounding box meets, in face order); None where Numba cannot be imported."""
+    return _face_grid if _compile() else None
 
 
 def grid_nearest_kernel():

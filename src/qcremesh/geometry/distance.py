@@ -16,7 +16,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..mesh.topology import half_edges
-from .compiled import grid_nearest_kernel, pair_distances_kernel
+from .compiled import face_grid_kernel, grid_nearest_kernel, pair_distances_kernel
 from .operators import doublearea
 from .threads import map_row_chunks, query_workers
 from .vectors import norm
@@ -392,8 +392,8 @@ def _distance_to_mesh(P, V, F):
     balls; the same numbers to the last bit as without (the exact minimum over the faces
     of the same distances; only which face is found in a tie may differ, which is why
     :func:`point_mesh_distance` keeps to the search of balls). The Hausdorff distance
-    between hand.ply and its remesh at its face count: 3.0 -> 0.95 s (1.3 -> 0.31 s on
-    human_face.obj)."""
+    between hand.ply and its remesh at its face count: 3.0 -> 0.8 s (1.3 -> 0.23 s on
+    human_face.obj), the grid built in 0.4 s and 170 MB for 1.7M faces."""
     if P.shape[1] != 3 or grid_nearest_kernel() is None:
         return _nearest_face(P, V, F)[0]
     P3, V3, F3 = np.ascontiguousarray(P), np.ascontiguousarray(V), np.ascontiguousarray(F, dtype=np.int64)
@@ -410,27 +410,12 @@ def _face_grid(V, F):
     members). The cubes' side is twice the mean edge length, raised where the grid would
     get more than GRID_CELLS_PER_FACE cubes per face (a few large faces in a large box);
     each face is in every cube its bounding box meets."""
-    corners = V[F]  # (m, 3, 3)
-    low, high = corners.min(1), corners.max(1)
-    lo = low.min(0)
-    extent = high.max(0) - lo
-    cell = 2 * np.linalg.norm(corners - np.roll(corners, 1, axis=1), axis=2).mean()
+    lo, hi = V.min(0), V.max(0)
+    extent = hi - lo
+    cell = 2 * np.linalg.norm(V[F[:, 1]] - V[F[:, 0]], axis=1).mean()
     cell = max(cell, np.cbrt(np.prod(np.maximum(extent, cell)) / (GRID_CELLS_PER_FACE * len(F))), 1e-300)
     dims = np.maximum(np.ceil(extent / cell).astype(np.int64), 1)
-    first = np.minimum(((low - lo) / cell).astype(np.int64), dims - 1)
-    span = np.minimum(((high - lo) / cell).astype(np.int64), dims - 1) - first + 1  # (m, 3)
-    count = span.prod(1)
-    owner = np.repeat(np.arange(len(F)), count)
-    local = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-    sy, sz = span[owner, 1], span[owner, 2]
-    x = first[owner, 0] + local // (sy * sz)
-    y = first[owner, 1] + (local // sz) % sy
-    z = first[owner, 2] + local % sz
-    at = (x * dims[1] + y) * dims[2] + z
-    order = np.argsort(at, kind="stable")
-    start = np.zeros(int(dims.prod()) + 1, dtype=np.int64)
-    np.cumsum(np.bincount(at, minlength=int(dims.prod())), out=start[1:])
-    return lo, float(cell), dims, start, owner[order]
+    return (lo, float(cell), dims, *face_grid_kernel()(V, F, lo, float(cell), dims))
 
 
 def point_polyline_distance(P, V, E):
