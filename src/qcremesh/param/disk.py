@@ -377,16 +377,20 @@ def _untangle(z, F, bnd):
     if before == 0:
         return z, 0, 0
     n = len(z)
-    A = adjacency_matrix(F, n)
-    degree = np.asarray(A.sum(axis=1)).ravel()
     interior = np.ones(n, dtype=bool)
     interior[bnd] = False
     z = z.copy()
     for _ in range(UNTANGLE_ROUNDS):
         region = np.zeros(n, dtype=bool)
         region[F[folded].ravel()] = True
-        v = np.flatnonzero((region | (A @ region > 0)) & interior)
-        z[v] = (A[v] @ z) / degree[v]
+        # The corners of the faces at the region are the region and its neighbours; the
+        # faces at those hold all their edges, so the adjacency of those faces alone has
+        # their whole rows (not the whole mesh's: 1.4 s at 1.7M faces for a few folds).
+        near = np.zeros(n, dtype=bool)
+        near[F[region[F].any(axis=1)].ravel()] = True
+        A = adjacency_matrix(F[near[F].any(axis=1)], n)
+        v = np.flatnonzero(near & interior)
+        z[v] = (A[v] @ z) / np.diff(A.indptr)[v]
         folded = signed_doublearea(np.column_stack([z.real, z.imag]), F) <= 0
         if not folded.any():
             break
