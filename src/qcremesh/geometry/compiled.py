@@ -93,14 +93,18 @@ def _pair_distances(P, V, F, i, j):
     return out
 
 
+def _cube(x, lo, cell, dims):
+    """Index of the cube of a uniform grid (corner ``lo``, side ``cell``, ``dims`` cubes)
+    that holds coordinate x along one axis, the nearest one for x outside the grid."""
+    return min(max(int(np.floor((x - lo) / cell)), 0), dims - 1)
+
+
 def _face_cubes(V, F, f, lo, cell, dims, first, last):
     """The range of cubes of a uniform grid that face f's bounding box meets, along each
     axis, into ``first`` and ``last`` (3,)."""
     for a in range(3):
-        low = min(V[F[f, 0], a], V[F[f, 1], a], V[F[f, 2], a])
-        high = max(V[F[f, 0], a], V[F[f, 1], a], V[F[f, 2], a])
-        first[a] = min(max(int(np.floor((low - lo[a]) / cell)), 0), dims[a] - 1)
-        last[a] = min(max(int(np.floor((high - lo[a]) / cell)), 0), dims[a] - 1)
+        first[a] = _cube(min(V[F[f, 0], a], V[F[f, 1], a], V[F[f, 2], a]), lo[a], cell, dims[a])
+        last[a] = _cube(max(V[F[f, 0], a], V[F[f, 1], a], V[F[f, 2], a]), lo[a], cell, dims[a])
 
 
 def _face_grid(V, F, lo, cell, dims):
@@ -131,12 +135,11 @@ def _face_grid(V, F, lo, cell, dims):
 
 
 def _grid_nearest(P, V, F, lo, cell, dims, start, members, shells):
-    """The nearest face of every point ``P[i]`` (q, 3) among the faces of a uniform grid
-    (:func:`grid_nearest_kernel`) and whether it is certified: (q,) distances, (q,)
-    faces, (q,) bool."""
+    """The distance from every point ``P[i]`` (q, 3) to the nearest face of a uniform
+    grid (:func:`grid_nearest_kernel`) and whether it is certified: (q,) float, (q,)
+    bool."""
     q = P.shape[0]
     dist = np.full(q, np.inf)
-    face = np.full(q, -1, dtype=np.int64)
     certified = np.zeros(q, dtype=np.bool_)
     c = np.empty(3, dtype=np.int64)
     done_lo, done_hi = np.empty(3, dtype=np.int64), np.empty(3, dtype=np.int64)
@@ -144,9 +147,9 @@ def _grid_nearest(P, V, F, lo, cell, dims, start, members, shells):
     largest = (2 * shells + 1) ** 3
     for i in range(q):
         for a in range(3):
-            c[a] = min(max(int(np.floor((P[i, a] - lo[a]) / cell)), 0), dims[a] - 1)
+            c[a] = _cube(P[i, a], lo[a], cell, dims[a])
             done_lo[a], done_hi[a] = c[a], c[a] - 1  # nothing searched yet
-        best, arg = np.inf, -1
+        best = np.inf
         r = 0
         while True:
             if best < np.inf:
@@ -154,8 +157,8 @@ def _grid_nearest(P, V, F, lo, cell, dims, start, members, shells):
                 # wider, for the rounding of the bounds)
                 reach = best * (1.0 + 1e-9)
                 for a in range(3):
-                    box_lo[a] = min(max(int(np.floor((P[i, a] - reach - lo[a]) / cell)), 0), dims[a] - 1)
-                    box_hi[a] = min(max(int(np.floor((P[i, a] + reach - lo[a]) / cell)), 0), dims[a] - 1)
+                    box_lo[a] = _cube(P[i, a] - reach, lo[a], cell, dims[a])
+                    box_hi[a] = _cube(P[i, a] + reach, lo[a], cell, dims[a])
                 last = True
             else:
                 # a shell of cubes further out, until one holds a face
@@ -176,15 +179,15 @@ def _grid_nearest(P, V, F, lo, cell, dims, start, members, shells):
                         for k in range(start[at], start[at + 1]):
                             f = members[k]
                             d = _point_triangle(P[i, 0], P[i, 1], P[i, 2], V, F[f, 0], F[f, 1], F[f, 2])[0]
-                            if d < best or (d == best and f < arg):
-                                best, arg = d, f
+                            if d < best:
+                                best = d
             for a in range(3):
                 done_lo[a], done_hi[a] = min(done_lo[a], box_lo[a]), max(done_hi[a], box_hi[a])
             if last:
                 certified[i] = True
                 break
-        dist[i], face[i] = best, arg
-    return dist, face, certified
+        dist[i] = best
+    return dist, certified
 
 
 def _guess_is_nearest(Q, X, guess, neighbours, near2, far2):
@@ -229,7 +232,7 @@ def numba_compile(func):
 def _compile():
     """Compile the kernels at the first call; whether they are."""
     global _state, _dot, _cross, _edge, _point_triangle, _pair_distances, _guess_is_nearest
-    global _face_cubes, _face_grid, _grid_nearest
+    global _cube, _face_cubes, _face_grid, _grid_nearest
     if _state is None:
         try:
             import numba  # noqa: F401
@@ -239,8 +242,8 @@ def _compile():
             _dot, _cross, _edge = numba_compile(_dot), numba_compile(_cross), numba_compile(_edge)
             _point_triangle, _pair_distances = numba_compile(_point_triangle), numba_compile(_pair_distances)
             _guess_is_nearest = numba_compile(_guess_is_nearest)
-            _face_cubes, _face_grid = numba_compile(_face_cubes), numba_compile(_face_grid)
-            _grid_nearest = numba_compile(_grid_nearest)
+            _cube, _face_cubes = numba_compile(_cube), numba_compile(_face_cubes)
+            _face_grid, _grid_nearest = numba_compile(_face_grid), numba_compile(_grid_nearest)
             _state = True
     return _state
 
@@ -270,16 +273,16 @@ def face_grid_kernel():
 
 def grid_nearest_kernel():
     """The compiled ``grid_nearest(P, V, F, lo, cell, dims, start, members, shells) ->
-    (dist, face, certified)``: for every point of P (q, 3), the distance to the nearest
-    face of the mesh (V (n, 3) float, F (m, 3) int64) and that face (the lowest index in a
-    tie), searched in a uniform grid of cubes of side ``cell`` from the corner ``lo``
-    (3,), ``dims`` (3,) int64 cubes along the axes, cube (x, y, z) holding the faces
-    ``members[start[i]:start[i + 1]]`` for i = (x dims[1] + y) dims[2] + z (every face
-    in each cube its bounding box meets). The cubes around the point's own (the nearest
-    one, for a point outside the grid) are searched shell by shell, out to ``shells``
-    cubes away, until no face in a cube not searched can be nearer than the nearest
-    found: the distance is then exact (``certified``); a point farther from the faces
-    than that is not certified. None where Numba cannot be imported."""
+    (dist, certified)``: for every point of P (q, 3), the distance to the nearest face of
+    the mesh (V (n, 3) float, F (m, 3) int64), searched in a uniform grid of cubes of
+    side ``cell`` from the corner ``lo`` (3,), ``dims`` (3,) int64 cubes along the axes,
+    cube (x, y, z) holding the faces ``members[start[i]:start[i + 1]]`` for i = (x
+    dims[1] + y) dims[2] + z (every face in each cube its bounding box meets). Shells of
+    cubes around the point's own (the nearest one, for a point outside the grid) are
+    searched until one holds a face, then every cube the ball of the nearest distance
+    found meets: the distance is then exact (``certified``). A point whose search would
+    take more cubes than a box ``shells`` cubes from its own holds is not certified. None
+    where Numba cannot be imported."""
     return _grid_nearest if _compile() else None
 
 

@@ -394,10 +394,11 @@ def _distance_to_mesh(P, V, F):
     :func:`point_mesh_distance` keeps to the search of balls). The Hausdorff distance
     between hand.ply and its remesh at its face count: 3.0 -> 0.8 s (1.3 -> 0.23 s on
     human_face.obj), the grid built in 0.4 s and 170 MB for 1.7M faces."""
-    if P.shape[1] != 3 or grid_nearest_kernel() is None:
+    kernel = grid_nearest_kernel() if P.shape[1] == 3 else None
+    if kernel is None:
         return _nearest_face(P, V, F)[0]
     P3, V3, F3 = np.ascontiguousarray(P), np.ascontiguousarray(V), np.ascontiguousarray(F, dtype=np.int64)
-    dist, _, certified = map_row_chunks(grid_nearest_kernel(), [P3], [V3, F3, *_face_grid(V3, F3), GRID_SHELLS])
+    dist, certified = map_row_chunks(kernel, [P3], [V3, F3, *_face_grid(V3, F3), GRID_SHELLS])
     rest = np.flatnonzero(~certified)
     if len(rest):
         dist[rest] = _nearest_face(P3[rest], V3, F3)[0]
