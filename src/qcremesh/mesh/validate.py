@@ -93,8 +93,7 @@ def as_mesh_arrays(V, F):
     if V.dtype == bool or not np.issubdtype(V.dtype, np.number) or np.iscomplexobj(V):
         raise InvalidIndexError(f"vertex coordinates must be real numbers, got {V.dtype}")
     F = as_face_array(F, len(V))
-    if not np.all(np.isfinite(V)):
-        raise InvalidIndexError("vertex coordinates must be finite")
+    _check_finite(V)
     return V.astype(np.float64, copy=False), F
 
 
@@ -118,8 +117,7 @@ def as_face_array(F, n=None):
     InvalidIndexError
     """
     F = np.asarray(F)
-    if F.ndim != 2 or F.shape[1] != 3 or len(F) == 0:
-        raise InvalidIndexError(f"faces must be a non-empty (m, 3) array, got shape {F.shape}")
+    _check_face_shape(F)
     if F.dtype == bool or not (np.issubdtype(F.dtype, np.integer) or np.issubdtype(F.dtype, np.floating)):
         raise InvalidIndexError(f"face indices must be integers, got {F.dtype}")
     if np.issubdtype(F.dtype, np.floating):
@@ -129,11 +127,26 @@ def as_face_array(F, n=None):
                 f"face indices must be whole numbers, got {len(fractional)} that are not, e.g. {fractional[0]}"
             )
     F = F.astype(np.int64, copy=False)
+    _check_index_range(F, n)
+    return F
+
+
+def _check_face_shape(F):
+    if F.ndim != 2 or F.shape[1] != 3 or len(F) == 0:
+        raise InvalidIndexError(f"faces must be a non-empty (m, 3) array, got shape {F.shape}")
+
+
+def _check_index_range(F, n):
+    """Indices in 0..n-1 (non-negative where n is None)."""
     low, high = F.min(), F.max()
     if low < 0 or (n is not None and high >= n):
         bound = "0.." if n is None else f"0..{n - 1}"
         raise InvalidIndexError(f"face indices must lie in {bound}, found {low}..{high}")
-    return F
+
+
+def _check_finite(V):
+    if not np.all(np.isfinite(V)):
+        raise InvalidIndexError("vertex coordinates must be finite")
 
 
 def check_triangle_mesh(V, F):
@@ -156,16 +169,13 @@ def _check_triangle_mesh(V, F):
     (:func:`qcremesh.mesh.topology.twin_half_edges`) that the last ones share."""
     V = np.asarray(V)
     F = np.asarray(F)
-    if F.ndim != 2 or F.shape[1] != 3 or len(F) == 0:
-        raise InvalidIndexError(f"faces must be a non-empty (m, 3) array, got shape {F.shape}")
+    _check_face_shape(F)
     if V.ndim != 2 or V.shape[1] not in (2, 3):
         raise InvalidIndexError(f"vertices must be an (n, 3) array, got shape {V.shape}")
     if not np.issubdtype(F.dtype, np.integer):
         raise InvalidIndexError(f"face indices must be integers, got {F.dtype}")
-    if F.min() < 0 or F.max() >= len(V):
-        raise InvalidIndexError(f"face indices must lie in 0..{len(V) - 1}, found {F.min()}..{F.max()}")
-    if not np.all(np.isfinite(V)):
-        raise InvalidIndexError("vertex coordinates must be finite")
+    _check_index_range(F, len(V))
+    _check_finite(V)
     unref = topology.unreferenced_vertices(F, len(V))
     if len(unref):
         raise UnreferencedVertexError(
