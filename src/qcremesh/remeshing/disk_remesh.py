@@ -52,7 +52,14 @@ from .project import project_to_surface
 from .relax import relax_on_surface
 from .result import RemeshResult, StageTimes
 
-__all__ = ["MAX_REDRAWN_SLIVERS", "MIN_BASE_FACES", "output_edge_length", "planned_levels", "remesh_disk"]
+__all__ = [
+    "MAX_REDRAWN_SLIVERS",
+    "MIN_BASE_FACES",
+    "levels_above_min_base",
+    "output_edge_length",
+    "planned_levels",
+    "remesh_disk",
+]
 
 # Fewest base-mesh faces: below this the face count of the output, a multiple of
 # 4^levels times the base mesh's, cannot come within a few percent of the request, so
@@ -143,9 +150,16 @@ def planned_levels(V, F, faces, levels, density=None):
     sizing field 1 / ``density``): fewer where the base mesh would get under
     MIN_BASE_FACES faces or more boundary landmarks than interior ones
     (:func:`_levels_with_interior`), before the CVT's test of its cells."""
+    levels = levels_above_min_base(faces, levels)
+    return _levels_with_interior(V, F, boundary_loop(F), faces, levels, density)
+
+
+def levels_above_min_base(faces, levels):
+    """The most levels, up to ``levels``, whose base mesh for ``faces`` output faces has
+    at least MIN_BASE_FACES faces (or none)."""
     while levels > 0 and faces / 4**levels < MIN_BASE_FACES:
         levels -= 1
-    return _levels_with_interior(V, F, boundary_loop(F), faces, levels, density)
+    return levels
 
 
 def output_edge_length(V, F, faces, density=None):
@@ -404,7 +418,7 @@ def remesh_disk(
         Output faces wanted.
     levels, method, seed, corner_angle, cvt_iterations, relax, teichmuller_iterations, retries
         As for :func:`qcremesh.remeshing.pipeline.remesh`; ``levels`` is already at most
-        what keeps the base mesh at MIN_BASE_FACES.
+        what keeps the base mesh at MIN_BASE_FACES (:func:`levels_above_min_base`).
     sizing : (n,) float, optional
         Relative edge lengths (the ``"curvature"`` field already computed).
     fixed_boundary, boundary_edge_length, data

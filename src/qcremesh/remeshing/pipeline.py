@@ -52,7 +52,7 @@ from ..mesh.validate import (
 )
 from ..param.disk import disk_conformal_map
 from .cut_paths import CROWDED_SHARE, CROWDED_SHARE_FIXED, crease_cuts, crowded_cuts, split_pieces, trimmed_cut
-from .disk_remesh import MIN_BASE_FACES, output_edge_length, planned_levels, remesh_disk
+from .disk_remesh import levels_above_min_base, output_edge_length, planned_levels, remesh_disk
 from .mend import refine_long_boundary, renumbered, repair_input, upsampled
 from .result import RemeshResult, StageTimes
 from .weld import coincident_pairs, crack_hint, join_pieces, weld_defects, weld_levels
@@ -537,8 +537,7 @@ def remesh(
             raise ValueError("the 'uniform' method takes no corners")
     if method == "base":
         levels = 0
-    while levels > 0 and faces / 4**levels < MIN_BASE_FACES:
-        levels -= 1
+    levels = levels_above_min_base(faces, levels)
     stats = {"levels": levels}
     clock = StageTimes(progress)
 
