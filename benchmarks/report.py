@@ -236,8 +236,17 @@ REMESH_HEADER = [
     "boundary Hausdorff %",
     "manifold",
     "loops",
+    "self-intersecting faces (input's)",
     "peak MB",
 ]
+
+
+def _self_intersections(q):
+    if "self_intersecting_faces" not in q:  # results measured before they were counted
+        return "n/a"
+    if "reference_self_intersecting_faces" not in q:
+        return f"{q['self_intersecting_faces']:,}"
+    return f"{q['self_intersecting_faces']:,} ({q['reference_self_intersecting_faces']:,})"
 
 
 def _remesh_cells(r):
@@ -256,6 +265,7 @@ def _remesh_cells(r):
         _pct(q["boundary_hausdorff"]),
         "yes" if q["manifold"] else "no",
         q["boundary_loops"],
+        _self_intersections(q),
         f"{r['peak_rss_mb']:.0f}",
     ]
 
@@ -268,7 +278,9 @@ def _remesh_section(results):
         "r_in / R_circ per face, the smallest angle (degrees), the fraction of interior vertices "
         "of valence 6, Hausdorff and mean distance to the input in % of its bounding-box "
         "diagonal, the Hausdorff distance between the boundaries (n/a when only one of the two "
-        "meshes has a boundary), manifoldness and boundary loops of the output. Tools that take "
+        "meshes has a boundary), manifoldness and boundary loops of the output, and its faces that "
+        "meet another where the connectivity does not join them (self-intersections, those of the "
+        "input beside them: a remesh that follows a surface through itself does too). Tools that take "
         "an edge length are calibrated to the face count, starting from the length of the "
         "previous run where there is one (the run with the final length is the first timed "
         "run).\n",

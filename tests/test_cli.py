@@ -274,8 +274,12 @@ def test_quality_cli_json(capsys):
     assert main(["quality", str(DATA / "fran_cut.ply"), "--json", "--reference", str(DATA / "fran_cut.ply")]) == 0
     q = json.loads(capsys.readouterr().out)
     assert q["faces"] == 4224 and q["hausdorff"] < 1e-12 and 0 < q["q_min"] < q["q_mean"] < 1
+    assert q["self_intersecting_faces"] == q["reference_self_intersecting_faces"] == 0
     assert main(["quality", str(DATA / "fran_cut.ply")]) == 0
-    assert "radius ratio" in capsys.readouterr().out
+    text = capsys.readouterr().out
+    assert "radius ratio" in text and "manifold yes, self-intersecting faces 0\n" in text
+    assert main(["quality", str(DATA / "human_face.obj"), "--reference", str(DATA / "human_face.obj")]) == 0
+    assert "manifold yes, self-intersecting faces 406 (the reference: 406)\n" in capsys.readouterr().out
 
 
 def test_remesh_cli_warns_of_a_corner_too_sharp_for_good_triangles(tmp_path, capsys):

@@ -100,7 +100,8 @@ def test_mesh_quality_of_a_grid_and_against_a_reference():
     assert r["min_angle_deg"] == pytest.approx(45) and r["mean_min_angle_deg"] == pytest.approx(45)
     assert r["valence6_fraction"] == 1.0
     assert (r["boundary_loops"], r["euler_characteristic"], r["manifold"]) == (1, 1, True)
-    assert "hausdorff" not in r
+    assert r["self_intersecting_faces"] == 0
+    assert "hausdorff" not in r and "reference_self_intersecting_faces" not in r
 
     diag = np.sqrt(2)
     r = mesh_quality(V + [0.03, 0, 0.01], F, reference=(V, F))
@@ -108,6 +109,11 @@ def test_mesh_quality_of_a_grid_and_against_a_reference():
     assert r["hausdorff"] == pytest.approx(np.hypot(0.03, 0.01) / diag)
     assert 0.01 / diag < r["mean_distance"] < r["hausdorff"]
     assert r["boundary_hausdorff"] == pytest.approx(np.hypot(0.03, 0.01) / diag)
+    # the grid with a small triangle standing up through one of its faces
+    stand = np.array([[0.43, 0.425, -0.1], [0.47, 0.425, -0.1], [0.45, 0.415, 0.1]])
+    crossed = (np.vstack([V, stand]), np.vstack([F, [121, 122, 123]]))
+    r = mesh_quality(V, F, reference=crossed)
+    assert (r["self_intersecting_faces"], r["reference_self_intersecting_faces"]) == (0, 2)
     r = mesh_quality(V, F, reference=(V, F))
     distances = [r["hausdorff"], r["mean_distance"], r["boundary_hausdorff"]]
     assert distances == pytest.approx([0, 0, 0], abs=1e-15)

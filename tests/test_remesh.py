@@ -156,13 +156,14 @@ def test_bad_arguments(fran):
 def test_targets_on_shared_mesh(name):
     """The remeshing targets at the input's face count, on the meshes where all of them
     hold: count within 5 %, mean radius ratio >= 0.97, min >= 0.3, Hausdorff distance
-    <= 0.3 % of the diagonal."""
+    <= 0.3 % of the diagonal; and, as the input, no face passing through another."""
     V, F = read_mesh(shared(name))
     r = remesh(V, F)
     q = mesh_quality(r.V, r.F, reference=(V, F))
     assert abs(q["faces"] - len(F)) <= 0.05 * len(F)
     assert q["q_mean"] >= 0.97 and q["q_min"] >= 0.3
     assert q["hausdorff"] <= 0.003
+    assert q["self_intersecting_faces"] == q["reference_self_intersecting_faces"] == 0
 
 
 @pytest.mark.parametrize("name", ["fran_cut.ply", "venus.off"])

@@ -19,6 +19,7 @@ from ..mesh.topology import (
 )
 from ..mesh.validate import as_mesh_arrays
 from .distance import hausdorff_distance, polyline_hausdorff_distance
+from .intersections import self_intersections
 from .vectors import cross as cross_product
 from .vectors import norm
 
@@ -184,14 +185,18 @@ def mesh_quality(V, F, reference=None):
         ``valence6_fraction``: see :func:`valence6_fraction` (None if no interior vertex).
         ``boundary_loops``: connected components of the boundary edges;
         ``euler_characteristic``: V - E + F over the referenced vertices;
-        ``manifold``: no edge with more than two faces and no pinched vertex.
+        ``manifold``: no edge with more than two faces and no pinched vertex;
+        ``self_intersecting_faces``: faces that meet another where the connectivity does
+        not join them (:func:`~qcremesh.geometry.intersections.self_intersections`).
         With ``reference``, distances divided by the bounding-box diagonal of the
         vertices of ``F0``:
         ``hausdorff`` and ``mean_distance`` between the surfaces
         (:func:`~qcremesh.geometry.distance.hausdorff_distance`), and
         ``boundary_hausdorff`` between the boundary edges
         (:func:`~qcremesh.geometry.distance.polyline_hausdorff_distance`): 0.0 when
-        neither surface has a boundary, None when only one of them has.
+        neither surface has a boundary, None when only one of them has; and
+        ``reference_self_intersecting_faces``, those of the reference (a remesh that
+        follows a surface through itself does too).
     """
     V, F = as_mesh_arrays(V, F)
     q = radius_ratio(V, F)
@@ -214,6 +219,7 @@ def mesh_quality(V, F, reference=None):
         "boundary_loops": int(connected_components(graph, directed=False)[0]),
         "euler_characteristic": int(euler_characteristic(F)),
         "manifold": bool(len(nonmanifold_edges(F)) == 0 and len(nonmanifold_vertices(F)) == 0),
+        "self_intersecting_faces": _self_intersecting_faces(V, F),
     }
     if reference is not None:
         V0, F0 = as_mesh_arrays(*reference)
@@ -225,5 +231,14 @@ def mesh_quality(V, F, reference=None):
             boundary = polyline_hausdorff_distance(V, B, V0, B0)[0] / diag
         else:
             boundary = None if len(B) or len(B0) else 0.0
-        report.update(hausdorff=hausdorff / diag, mean_distance=mean / diag, boundary_hausdorff=boundary)
+        report.update(
+            hausdorff=hausdorff / diag,
+            mean_distance=mean / diag,
+            boundary_hausdorff=boundary,
+            reference_self_intersecting_faces=_self_intersecting_faces(V0, F0),
+        )
     return report
+
+
+def _self_intersecting_faces(V, F):
+    return len(np.unique(self_intersections(V, F)))
