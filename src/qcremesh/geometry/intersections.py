@@ -41,7 +41,10 @@ def triangles_intersect(P, Q):
     They are disjoint exactly when the intervals of their projections on some axis a are
     disjoint, max_k a.P_k < min_k a.Q_k or the other way round, for a among the normals
     n_P, n_Q, the cross products e_i x f_j of their edges, and n x e_i, n x f_j with n
-    the longer of the normals (which separate coplanar triangles). Touching counts as sharing a point.
+    the longer of the normals (which separate coplanar triangles). Touching counts as
+    sharing a point. Triangles whose planes are parallel and apart within ``COPLANAR``
+    (of a radian, and of their longest side) are compared on the in-plane axes alone, so
+    that rounding cannot lift one off the other.
 
     Parameters
     ----------
@@ -108,33 +111,31 @@ def _separated(axes, P, Q):
     return ((on_P.max(2) < on_Q.min(2)) | (on_Q.max(2) < on_P.min(2))).any(1)
 
 
-def _inside(r, u1, u2, n):
-    """Whether direction r (p, 3) lies strictly between u1 and u2 (p, 3), the sector of
-    angle below 180 degrees they span in the plane of normal n = u1 x u2."""
-    return (np.einsum("pc,pc->p", cross(u1, r), n) > 0) & (np.einsum("pc,pc->p", cross(r, u2), n) > 0)
-
-
-def _closed_inside(r, u1, u2, n):
-    return (np.einsum("pc,pc->p", cross(u1, r), n) >= 0) & (np.einsum("pc,pc->p", cross(r, u2), n) >= 0)
+def _inside(r, u1, u2, n, strict=True):
+    """Whether direction r (p, 3) lies strictly (or with ``strict`` False, possibly on a
+    side) between u1 and u2 (p, 3), the sector of angle below 180 degrees they span in
+    the plane of normal n = u1 x u2."""
+    a, b = np.einsum("pc,pc->p", cross(u1, r), n), np.einsum("pc,pc->p", cross(r, u2), n)
+    return (a > 0) & (b > 0) if strict else (a >= 0) & (b >= 0)
 
 
 def _sectors_overlap(u1, u2, w1, w2):
     """Whether two triangles with a common vertex v meet elsewhere, from their edges at
-    v: u1, u2 (p, 3) of one and w1, w2 of the other, each pair counter-clockwise about
-    its normal. Not where their planes are apart and the other two corners of one lie
-    strictly on one side of the plane of the other (it meets that plane at v alone). Otherwise near v each triangle
-    is its sector, and the sectors meet beyond v exactly when the triangles do. Planes
-    not parallel meet on a line through v, of direction d = n_u x n_w: the sectors
-    overlap when d or -d lies in both (closed). In one plane, when a boundary ray or the
-    bisector of one lies strictly inside the other."""
+    v: u1, u2 (p, 3) of one and w1, w2 of the other (normals n_u = u1 x u2 and
+    n_w = w1 x w2). Not where their planes are apart and the other two corners of one lie
+    strictly on one side of the plane of the other (it meets that plane at v alone).
+    Otherwise near v each triangle is its sector, and the sectors meet beyond v exactly
+    when the triangles do. Planes not parallel meet on a line through v, of direction
+    d = n_u x n_w: the sectors overlap when d or -d lies in both (closed). In one plane,
+    when a boundary ray or the bisector of one lies strictly inside the other."""
     n_u, n_w = cross(u1, u2), cross(w1, w2)
     d = cross(n_u, n_w)
     flat = norm(d) <= COPLANAR * norm(n_u) * norm(n_w)
     meet = flat | ~(_one_side(w1, w2, n_u) | _one_side(u1, u2, n_w))
     rest = np.flatnonzero(meet)
     u1, u2, w1, w2, n_u, n_w, d, flat = (x[rest] for x in (u1, u2, w1, w2, n_u, n_w, d, flat))
-    along = (_closed_inside(d, u1, u2, n_u) & _closed_inside(d, w1, w2, n_w)) | (
-        _closed_inside(-d, u1, u2, n_u) & _closed_inside(-d, w1, w2, n_w)
+    along = (_inside(d, u1, u2, n_u, False) & _inside(d, w1, w2, n_w, False)) | (
+        _inside(-d, u1, u2, n_u, False) & _inside(-d, w1, w2, n_w, False)
     )
     unit = [r / np.maximum(norm(r), 1e-300)[:, None] for r in (u1, u2, w1, w2)]
     in_w = [_inside(r, w1, w2, n_w) for r in (u1, u2, unit[0] + unit[1])]
@@ -179,10 +180,10 @@ def self_intersections(V, F):
 
     Faces with no common vertex are reported when they share a point
     (:func:`triangles_intersect`), touching included (the faces on the two sides of a
-    slit of zero width, whose vertices are listed twice at one position, touch); faces with one common vertex when they meet away from
-    it (their sectors at it overlap); faces over the same three vertices always. Faces
-    with a common edge meet along it and are not tested (a fold of 180 degrees, which
-    lays them on each other, is one of
+    slit of zero width, whose vertices are listed twice at one position, touch); faces
+    with one common vertex when they meet away from it (their sectors at it overlap);
+    faces over the same three vertices always. Faces with a common edge meet along it
+    and are not tested (a fold of 180 degrees, which lays them on each other, is one of
     :func:`qcremesh.mesh.validate.foldover_edges`).
 
     Parameters
