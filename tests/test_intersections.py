@@ -154,3 +154,29 @@ def test_a_flap_pushed_through_the_surface():
 def test_self_intersections_refuses_bad_faces():
     with pytest.raises(InvalidIndexError, match=r"face indices must lie in 0\.\.2, found 0\.\.3"):
         self_intersections(TRIANGLE, [[0, 1, 3]])
+
+
+def test_candidate_searches_agree(monkeypatch):
+    """The compiled search of bounding boxes in a grid and the search of bounding spheres
+    in k-d trees (without Numba) give the same pairs, and so does testing the faces
+    around every vertex (without sparing those of the vertices around which the faces
+    turn once): on human_face.obj, whose lips pass through each other, and on a crumpled
+    grid that folds over itself."""
+    from conftest import DATA
+
+    import qcremesh.geometry.intersections as intersections
+    from qcremesh.mesh.io import read_mesh
+
+    uv, F = grid_disk(40, jitter=0.3)
+    u, v = uv.T
+    crumpled = np.column_stack([u + 0.2 * np.sin(4 * np.pi * u), v, 0.01 * np.sin(7 * v) + 0.02 * np.cos(9 * u)])
+    meshes = [read_mesh(DATA / "human_face.obj")[:2], (crumpled, F)]
+    compiled = [self_intersections(V, F) for V, F in meshes]
+    monkeypatch.setattr(intersections, "box_pairs_kernel", lambda: None)
+    spheres = [self_intersections(V, F) for V, F in meshes]
+    monkeypatch.setattr(intersections, "_flat_fans", lambda V, F: np.zeros(len(V), dtype=bool))
+    every_fan = [self_intersections(V, F) for V, F in meshes]
+    assert len(compiled[0]) == 408 and len(compiled[1]) > 100
+    for a, b, c in zip(compiled, spheres, every_fan):
+        np.testing.assert_array_equal(a, b)
+        np.testing.assert_array_equal(a, c)

@@ -12,6 +12,10 @@ over many small gathers.
 - The search for the nearest face of many points in a uniform grid of the faces
   (:func:`grid_nearest_kernel`, with the same point-triangle distances), for the
   distances between two surfaces, which measure every sample of one against the other.
+- The pairs of faces whose bounding boxes meet, from the same grid
+  (:func:`box_pairs_kernel`), which :func:`qcremesh.geometry.intersections.
+  self_intersections` then tests (the pairs of a search of bounding spheres without it:
+  either holds every pair of faces that meet).
 - The test that a guessed nearest point is the nearest (:func:`guess_is_nearest_kernel`),
   which spares Lloyd's iteration most of its nearest-generator searches; it certifies
   only what the search would answer, so the owners are the same with it and without.
@@ -22,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = [
+    "box_pairs_kernel",
     "face_grid_kernel",
     "grid_nearest_kernel",
     "guess_is_nearest_kernel",
@@ -134,6 +139,60 @@ def _face_grid(V, F, lo, cell, dims):
     return start, members
 
 
+def _box_pairs(V, F, lo, cell, dims, start, members, flat):
+    """The pairs of faces (i, j), i < j, whose bounding boxes meet and that have no edge
+    in common nor only a vertex v with ``flat[v]``, each found once in the grid of
+    :func:`_face_grid` (in the first cube that both boxes meet): (i, j) (k,) int64 each,
+    in order of i, then of the cube."""
+    m = F.shape[0]
+    box_lo, box_hi = np.empty((m, 3)), np.empty((m, 3))
+    first, last = np.empty((m, 3), dtype=np.int64), np.empty((m, 3), dtype=np.int64)
+    for f in range(m):
+        for a in range(3):
+            box_lo[f, a] = min(V[F[f, 0], a], V[F[f, 1], a], V[F[f, 2], a])
+            box_hi[f, a] = max(V[F[f, 0], a], V[F[f, 1], a], V[F[f, 2], a])
+            first[f, a] = _cube(box_lo[f, a], lo[a], cell, dims[a])
+            last[f, a] = _cube(box_hi[f, a], lo[a], cell, dims[a])
+    count = 0
+    out_i, out_j = np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64)
+    for fill in range(2):  # count the pairs, then write them
+        k = 0
+        for f in range(m):
+            for x in range(first[f, 0], last[f, 0] + 1):
+                for y in range(first[f, 1], last[f, 1] + 1):
+                    for z in range(first[f, 2], last[f, 2] + 1):
+                        c = (x * dims[1] + y) * dims[2] + z
+                        for at in range(start[c], start[c + 1]):
+                            g = members[at]
+                            if g <= f:
+                                continue
+                            if max(first[f, 0], first[g, 0]) != x or max(first[f, 1], first[g, 1]) != y:
+                                continue
+                            if max(first[f, 2], first[g, 2]) != z:
+                                continue
+                            apart = False
+                            for a in range(3):
+                                if box_hi[f, a] < box_lo[g, a] or box_hi[g, a] < box_lo[f, a]:
+                                    apart = True
+                            if apart:
+                                continue
+                            shared, common = 0, -1
+                            for p in range(3):
+                                for q in range(3):
+                                    if F[f, p] == F[g, q]:
+                                        shared += 1
+                                        common = F[f, p]
+                            if shared == 2 or (shared == 1 and flat[common]):
+                                continue
+                            if fill:
+                                out_i[k], out_j[k] = f, g
+                            k += 1
+        count = k
+        if not fill:
+            out_i, out_j = np.empty(count, dtype=np.int64), np.empty(count, dtype=np.int64)
+    return out_i, out_j
+
+
 def _grid_nearest(P, V, F, lo, cell, dims, start, members, shells):
     """The distance from every point ``P[i]`` (q, 3) to the nearest face of a uniform
     grid (:func:`grid_nearest_kernel`) and whether it is certified: (q,) float, (q,)
@@ -232,7 +291,7 @@ def numba_compile(func):
 def _compile():
     """Compile the kernels at the first call; whether they are."""
     global _state, _dot, _cross, _edge, _point_triangle, _pair_distances, _guess_is_nearest
-    global _cube, _face_cubes, _face_grid, _grid_nearest
+    global _cube, _face_cubes, _face_grid, _grid_nearest, _box_pairs
     if _state is None:
         try:
             import numba  # noqa: F401
@@ -244,6 +303,7 @@ def _compile():
             _guess_is_nearest = numba_compile(_guess_is_nearest)
             _cube, _face_cubes = numba_compile(_cube), numba_compile(_face_cubes)
             _face_grid, _grid_nearest = numba_compile(_face_grid), numba_compile(_grid_nearest)
+            _box_pairs = numba_compile(_box_pairs)
             _state = True
     return _state
 
@@ -269,6 +329,15 @@ def face_grid_kernel():
     the faces that :func:`grid_nearest_kernel` searches (every face in each cube its
     bounding box meets, in face order); None where Numba cannot be imported."""
     return _face_grid if _compile() else None
+
+
+def box_pairs_kernel():
+    """The compiled ``box_pairs(V, F, lo, cell, dims, start, members, flat) -> (i, j)``:
+    the pairs of faces (i < j, (k,) int64 each) of the mesh (V (n, 3) float, F (m, 3)
+    int64) whose bounding boxes meet and that have no edge in common nor only a vertex v
+    with ``flat[v]`` ((n,) bool), found in the grid of :func:`face_grid_kernel`, each
+    once; None where Numba cannot be imported."""
+    return _box_pairs if _compile() else None
 
 
 def grid_nearest_kernel():

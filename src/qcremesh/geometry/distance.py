@@ -28,6 +28,7 @@ __all__ = [
     "point_polyline_distance",
     "hausdorff_distance",
     "polyline_hausdorff_distance",
+    "face_grid",
 ]
 
 # Candidate pairs (points x neighbours) per KD-tree query in the nearest-primitive search.
@@ -398,17 +399,17 @@ def _distance_to_mesh(P, V, F):
     if kernel is None:
         return _nearest_face(P, V, F)[0]
     P3, V3, F3 = np.ascontiguousarray(P), np.ascontiguousarray(V), np.ascontiguousarray(F, dtype=np.int64)
-    dist, certified = map_row_chunks(kernel, [P3], [V3, F3, *_face_grid(V3, F3), GRID_SHELLS])
+    dist, certified = map_row_chunks(kernel, [P3], [V3, F3, *face_grid(V3, F3), GRID_SHELLS])
     rest = np.flatnonzero(~certified)
     if len(rest):
         dist[rest] = _nearest_face(P3[rest], V3, F3)[0]
     return dist
 
 
-def _face_grid(V, F):
-    """A uniform grid of the faces of a mesh in space, as :func:`qcremesh.geometry.
-    compiled.grid_nearest_kernel` takes it: (lo (3,), cell, dims (3,) int64, start,
-    members). The cubes' side is twice the mean edge length, raised where the grid would
+def face_grid(V, F):
+    """A uniform grid of the faces of a mesh in space (V (n, 3) float, F (m, 3) int64,
+    contiguous), as the kernels of :mod:`qcremesh.geometry.compiled` take it (Numba must
+    be there): (lo (3,), cell, dims (3,) int64, start, members). The cubes' side is twice the mean edge length, raised where the grid would
     get more than GRID_CELLS_PER_FACE cubes per face (a few large faces in a large box);
     each face is in every cube its bounding box meets."""
     lo, hi = V.min(0), V.max(0)

@@ -22,7 +22,11 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..mesh.topology import boundary_edges
 from ..mesh.validate import as_mesh_arrays
+from .compiled import box_pairs_kernel
+from .distance import face_grid
+from .operators import vertex_normals
 from .vectors import cross, norm
 
 __all__ = ["triangles_intersect", "self_intersections"]
@@ -151,10 +155,40 @@ def _one_side(a, b, n):
     return ((s > 0) & (t > 0)) | ((s < 0) & (t < 0))
 
 
-def _candidate_pairs(V, F):
-    """Pairs (i, j), i < j, of faces whose bounding spheres (about the centroid, through
-    the farthest corner) meet. The faces are grouped by radius in octaves, each group in a
-    k-d tree, so that a few large faces do not widen the search of the small ones."""
+def _flat_fans(V, F):
+    """The interior vertices whose faces, seen along the vertex normal N, turn once about
+    it, every corner counter-clockwise: the angles of their corners in the plane normal
+    to N, atan2((a x b).N, a.b - (a.N)(b.N)) for the edges a, b of the corner, are all
+    positive and sum to 2 pi. Their faces cover the plane once around the vertex, so no
+    two of them meet beyond it. (n,) bool."""
+    n = len(V)
+    N = vertex_normals(V, F)
+    turn, folded = np.zeros(n), np.zeros(n)
+    for k in range(3):
+        v = F[:, k]
+        a, b = V[F[:, (k + 1) % 3]] - V[v], V[F[:, (k + 2) % 3]] - V[v]
+        along_a, along_b = np.einsum("pc,pc->p", a, N[v]), np.einsum("pc,pc->p", b, N[v])
+        angle = np.arctan2(np.einsum("pc,pc->p", cross(a, b), N[v]), np.einsum("pc,pc->p", a, b) - along_a * along_b)
+        turn += np.bincount(v, angle, minlength=n)
+        folded += np.bincount(v, angle <= 0, minlength=n)
+    interior = np.ones(n, dtype=bool)
+    interior[boundary_edges(F).ravel()] = False
+    # the angles of a closed fan sum to a whole number of turns
+    return interior & (folded == 0) & (np.abs(turn - 2 * np.pi) < 1)
+
+
+def _candidate_pairs(V, F, flat):
+    """Pairs (i, j), i < j, of faces that may meet, every pair that does among them (but
+    those with only a vertex v in common where ``flat[v]``, see :func:`_flat_fans`):
+    compiled (extra ``fast``), those whose bounding boxes meet and that have no edge in
+    common (:func:`qcremesh.geometry.compiled.box_pairs_kernel`); else those whose
+    bounding spheres (about the centroid, through the farthest corner) meet, the faces
+    grouped by radius in octaves, each group in a k-d tree, so that a few large faces do
+    not widen the search of the small ones."""
+    kernel = box_pairs_kernel()
+    if kernel is not None:
+        V, F = np.ascontiguousarray(V), np.ascontiguousarray(F)
+        return np.column_stack(kernel(V, F, *face_grid(V, F), flat))
     corners = V[F]
     centre = corners.mean(1)
     radius = norm(corners - centre[:, None]).max(1)
@@ -212,7 +246,8 @@ def self_intersections(V, F):
     if V.shape[1] == 2:
         V = np.column_stack([V, np.zeros(len(V))])
     F = np.asarray(F, dtype=np.int64)
-    pairs = _candidate_pairs(V, F)
+    flat = _flat_fans(V, F)
+    pairs = _candidate_pairs(V, F, flat)
     A, B = F[pairs[:, 0]], F[pairs[:, 1]]
     same = A[:, :, None] == B[:, None, :]  # (p, 3 corners of A, 3 corners of B)
     shared = np.count_nonzero(same.reshape(-1, 9), axis=1)
@@ -229,6 +264,8 @@ def self_intersections(V, F):
         rows = np.arange(len(one))[:, None]
         A1 = A[one][rows, (k_A[:, None] + np.arange(3)) % 3]
         B1 = B[one][rows, (k_B[:, None] + np.arange(3)) % 3]
+        fan = ~flat[A1[:, 0]]
+        one, A1, B1 = one[fan], A1[fan], B1[fan]
         v = V[A1[:, 0]]
         hit[one] = _sectors_overlap(V[A1[:, 1]] - v, V[A1[:, 2]] - v, V[B1[:, 1]] - v, V[B1[:, 2]] - v)
     pairs = pairs[hit]
