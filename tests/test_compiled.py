@@ -147,7 +147,7 @@ def test_grid_distances_are_the_search_of_balls_ones_to_the_last_bit(monkeypatch
     balls = distance._nearest_face(P, V, F)[0]
     np.testing.assert_array_equal(grid, balls)
     _, certified = geometry_compiled.grid_nearest_kernel()(
-        P, V, F.astype(np.int64), *distance._face_grid(V, F.astype(np.int64)), distance.GRID_SHELLS
+        P, V, F.astype(np.int64), *distance.face_grid(V, F.astype(np.int64)), distance.GRID_SHELLS
     )
     assert certified[:29000].all() and not certified[-100:].any()
     monkeypatch.setattr(distance, "pair_distances_kernel", lambda: None)
