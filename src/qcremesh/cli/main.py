@@ -224,7 +224,7 @@ def _quality_lines(q):
         f"faces {q['faces']}, vertices {q['vertices']}, boundary loops {q['boundary_loops']}, "
         f"Euler characteristic {q['euler_characteristic']}, manifold {'yes' if q['manifold'] else 'no'}, "
         f"self-intersecting faces {q['self_intersecting_faces']}"
-        + (f" (the reference: {q['reference_self_intersecting_faces']})" if "hausdorff" in q else ""),
+        + (f" (the reference: {q['reference_self_intersecting_faces']})" if "reference_self_intersecting_faces" in q else ""),
         f"radius ratio 2 r_in / R_circ: mean {q['q_mean']:.4f}, min {q['q_min']:.4f}, "
         f"1st percentile {q['q_p01']:.4f}, q > 0.9: {100 * q['q_frac_above_0_9']:.1f} %",
         f"minimum angle {q['min_angle_deg']:.2f} deg, mean minimum angle {q['mean_min_angle_deg']:.2f} deg",

@@ -153,7 +153,6 @@ def _box_pairs(V, F, lo, cell, dims, start, members, flat):
             box_hi[f, a] = max(V[F[f, 0], a], V[F[f, 1], a], V[F[f, 2], a])
             first[f, a] = _cube(box_lo[f, a], lo[a], cell, dims[a])
             last[f, a] = _cube(box_hi[f, a], lo[a], cell, dims[a])
-    count = 0
     out_i, out_j = np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64)
     for fill in range(2):  # count the pairs, then write them
         k = 0
@@ -187,9 +186,8 @@ def _box_pairs(V, F, lo, cell, dims, start, members, flat):
                             if fill:
                                 out_i[k], out_j[k] = f, g
                             k += 1
-        count = k
         if not fill:
-            out_i, out_j = np.empty(count, dtype=np.int64), np.empty(count, dtype=np.int64)
+            out_i, out_j = np.empty(k, dtype=np.int64), np.empty(k, dtype=np.int64)
     return out_i, out_j
 
 

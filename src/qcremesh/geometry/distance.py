@@ -409,9 +409,10 @@ def _distance_to_mesh(P, V, F):
 def face_grid(V, F):
     """A uniform grid of the faces of a mesh in space (V (n, 3) float, F (m, 3) int64,
     contiguous), as the kernels of :mod:`qcremesh.geometry.compiled` take it (Numba must
-    be there): (lo (3,), cell, dims (3,) int64, start, members). The cubes' side is twice the mean edge length, raised where the grid would
-    get more than GRID_CELLS_PER_FACE cubes per face (a few large faces in a large box);
-    each face is in every cube its bounding box meets."""
+    be there): (lo (3,), cell, dims (3,) int64, start, members). The cubes' side is
+    twice the mean edge length, raised where the grid would get more than
+    GRID_CELLS_PER_FACE cubes per face (a few large faces in a large box); each face is
+    in every cube its bounding box meets."""
     lo, hi = V.min(0), V.max(0)
     extent = hi - lo
     cell = 2 * np.linalg.norm(V[F[:, 1]] - V[F[:, 0]], axis=1).mean()
