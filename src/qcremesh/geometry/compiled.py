@@ -153,42 +153,42 @@ def _box_pairs(V, F, lo, cell, dims, start, members, flat):
             box_hi[f, a] = max(V[F[f, 0], a], V[F[f, 1], a], V[F[f, 2], a])
             first[f, a] = _cube(box_lo[f, a], lo[a], cell, dims[a])
             last[f, a] = _cube(box_hi[f, a], lo[a], cell, dims[a])
-    out_i, out_j = np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64)
-    for fill in range(2):  # count the pairs, then write them
-        k = 0
-        for f in range(m):
-            for x in range(first[f, 0], last[f, 0] + 1):
-                for y in range(first[f, 1], last[f, 1] + 1):
-                    for z in range(first[f, 2], last[f, 2] + 1):
-                        c = (x * dims[1] + y) * dims[2] + z
-                        for at in range(start[c], start[c + 1]):
-                            g = members[at]
-                            if g <= f:
-                                continue
-                            if max(first[f, 0], first[g, 0]) != x or max(first[f, 1], first[g, 1]) != y:
-                                continue
-                            if max(first[f, 2], first[g, 2]) != z:
-                                continue
-                            apart = False
-                            for a in range(3):
-                                if box_hi[f, a] < box_lo[g, a] or box_hi[g, a] < box_lo[f, a]:
-                                    apart = True
-                            if apart:
-                                continue
-                            shared, common = 0, -1
-                            for p in range(3):
-                                for q in range(3):
-                                    if F[f, p] == F[g, q]:
-                                        shared += 1
-                                        common = F[f, p]
-                            if shared == 2 or (shared == 1 and flat[common]):
-                                continue
-                            if fill:
-                                out_i[k], out_j[k] = f, g
-                            k += 1
-        if not fill:
-            out_i, out_j = np.empty(k, dtype=np.int64), np.empty(k, dtype=np.int64)
-    return out_i, out_j
+    out_i, out_j = np.empty(4 * m + 16, dtype=np.int64), np.empty(4 * m + 16, dtype=np.int64)
+    k = 0
+    for f in range(m):
+        for x in range(first[f, 0], last[f, 0] + 1):
+            for y in range(first[f, 1], last[f, 1] + 1):
+                for z in range(first[f, 2], last[f, 2] + 1):
+                    c = (x * dims[1] + y) * dims[2] + z
+                    for at in range(start[c], start[c + 1]):
+                        g = members[at]
+                        if g <= f:
+                            continue
+                        if max(first[f, 0], first[g, 0]) != x or max(first[f, 1], first[g, 1]) != y:
+                            continue
+                        if max(first[f, 2], first[g, 2]) != z:
+                            continue
+                        apart = False
+                        for a in range(3):
+                            if box_hi[f, a] < box_lo[g, a] or box_hi[g, a] < box_lo[f, a]:
+                                apart = True
+                        if apart:
+                            continue
+                        shared, common = 0, -1
+                        for p in range(3):
+                            for q in range(3):
+                                if F[f, p] == F[g, q]:
+                                    shared += 1
+                                    common = F[f, p]
+                        if shared == 2 or (shared == 1 and flat[common]):
+                            continue
+                        if k == len(out_i):  # twice the room
+                            grown_i, grown_j = np.empty(2 * k, dtype=np.int64), np.empty(2 * k, dtype=np.int64)
+                            grown_i[:k], grown_j[:k] = out_i, out_j
+                            out_i, out_j = grown_i, grown_j
+                        out_i[k], out_j[k] = f, g
+                        k += 1
+    return out_i[:k].copy(), out_j[:k].copy()
 
 
 def _grid_nearest(P, V, F, lo, cell, dims, start, members, shells):
