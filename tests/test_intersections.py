@@ -180,3 +180,45 @@ def test_candidate_searches_agree(monkeypatch):
     for a, b, c in zip(compiled, spheres, every_fan):
         np.testing.assert_array_equal(a, b)
         np.testing.assert_array_equal(a, c)
+
+
+# A patch of pyacvd's remesh of alex_3.ply (data/, Apache-2.0) around one of its
+# vertices (4 here), coordinates centred and rounded: faces 6 and 13 run along the edge
+# 4-9 the same way, and 13 folds over the fan of vertex 4, through faces 5 and 10. Yet
+# the corners around vertex 4 are all counter-clockwise seen along its normal and turn
+# once.
+FOLD_V = np.array(
+    [
+        [-0.625, 2.016, -2.694], [-0.021, 1.035, -3.815], [-0.077, 0.489, -2.303],
+        [-0.646, 1.298, -0.91], [-0.023, -0.109, -0.303], [-0.323, -0.018, 1.516],
+        [-0.024, -0.836, 2.822], [-0.792, 1.102, 0.767], [0.154, -0.759, 1.141],
+        [0.166, -1.063, 2.312], [-0.561, -0.004, 3.383], [-0.539, -0.495, 5.434],
+        [-1.355, 2.376, 1.342], [-1.002, 2.889, -1.592], [0.934, 0.431, -6.219],
+        [0.528, -1.636, 2.147], [0.825, -2.594, 4.144], [0.811, -2.317, 3.005],
+        [0.211, -1.722, 5.02], [0.45, -0.386, -2.62], [-1.152, 2.41, -0.253],
+        [-1.116, 1.305, 2.443], [1.031, -0.512, -4.869], [0.319, 1.512, -5.356],
+        [0.939, -0.963, -3.379], [0.959, -1.498, -1.613], [0.927, -1.951, 0.45],
+    ]
+)
+FOLD_F = np.array(
+    [
+        [0, 2, 1], [3, 4, 2], [2, 0, 3], [4, 5, 6], [7, 5, 4], [4, 6, 8], [9, 8, 4],
+        [4, 3, 7], [10, 6, 5], [5, 7, 10], [9, 8, 6], [6, 10, 11], [13, 3, 0],
+        [15, 4, 9], [15, 16, 17], [18, 16, 15], [15, 19, 4], [9, 18, 15], [20, 7, 3],
+        [3, 13, 20], [21, 10, 7], [7, 20, 12], [12, 21, 7], [19, 22, 14], [14, 23, 19],
+        [1, 19, 23], [24, 22, 19], [19, 25, 24], [19, 1, 2], [19, 2, 4], [26, 25, 19],
+        [26, 15, 17], [19, 15, 26], [9, 6, 18], [18, 6, 11],
+    ]
+)
+
+
+def test_a_face_turned_and_folded_over_a_fan(monkeypatch):
+    """The faces around a vertex are spared only where every edge there runs once each
+    way, which the edge 4-9 does not: the pairs are those of testing every fan."""
+    import qcremesh.geometry.intersections as intersections
+
+    want = [[5, 13], [10, 13]]
+    assert self_intersections(FOLD_V, FOLD_F).tolist() == want
+    assert not intersections._flat_fans(FOLD_V, FOLD_F)[4]
+    monkeypatch.setattr(intersections, "_flat_fans", lambda V, F: np.zeros(len(V), dtype=bool))
+    assert self_intersections(FOLD_V, FOLD_F).tolist() == want

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..mesh.topology import boundary_edges
+from ..mesh.topology import half_edges
 from ..mesh.validate import as_mesh_arrays
 from .compiled import box_pairs_kernel
 from .distance import face_grid
@@ -156,11 +156,13 @@ def _one_side(a, b, n):
 
 
 def _flat_fans(V, F):
-    """The interior vertices whose faces, seen along the vertex normal N, turn once about
-    it, every corner counter-clockwise: the angles of their corners in the plane normal
-    to N, atan2((a x b).N, a.b - (a.N)(b.N)) for the edges a, b of the corner, are all
-    positive and sum to 2 pi. Their faces cover the plane once around the vertex, so no
-    two of them meet beyond it. (n,) bool."""
+    """The vertices whose faces, seen along the vertex normal N, turn once about it,
+    every corner counter-clockwise, (n,) bool: every edge at the vertex is in two faces
+    that run along it in opposite directions (so the faces around it close into fans),
+    and the angles of its corners in the plane normal to N, atan2((a x b).N, a.b -
+    (a.N)(b.N)) for the edges a, b of the corner, are all positive and sum to 2 pi (one
+    fan, once around). Their faces cover the plane once around the vertex, so no two of
+    them meet beyond it."""
     n = len(V)
     N = vertex_normals(V, F)
     turn, folded = np.zeros(n), np.zeros(n)
@@ -171,10 +173,17 @@ def _flat_fans(V, F):
         angle = np.arctan2(np.einsum("pc,pc->p", cross(a, b), N[v]), np.einsum("pc,pc->p", a, b) - along_a * along_b)
         turn += np.bincount(v, angle, minlength=n)
         folded += np.bincount(v, angle <= 0, minlength=n)
-    interior = np.ones(n, dtype=bool)
-    interior[boundary_edges(F).ravel()] = False
+    H = half_edges(F).astype(np.int64)
+    key = np.sort(H[:, 0] * n + H[:, 1])
+
+    def count(k):
+        return np.searchsorted(key, k, "right") - np.searchsorted(key, k, "left")
+
+    one_way = (count(H[:, 0] * n + H[:, 1]) == 1) & (count(H[:, 1] * n + H[:, 0]) == 1)
+    closed = np.ones(n, dtype=bool)
+    closed[H[~one_way].ravel()] = False
     # the angles of a closed fan sum to a whole number of turns
-    return interior & (folded == 0) & (np.abs(turn - 2 * np.pi) < 1)
+    return closed & (folded == 0) & (np.abs(turn - 2 * np.pi) < 1)
 
 
 def _candidate_pairs(V, F, flat):
