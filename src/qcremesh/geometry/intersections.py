@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..mesh.topology import half_edges
+from ..mesh.topology import half_edges, twin_half_edges
 from ..mesh.validate import as_mesh_arrays
 from .compiled import box_pairs_kernel
 from .distance import face_grid
@@ -173,13 +173,13 @@ def _flat_fans(V, F):
         angle = np.arctan2(np.einsum("pc,pc->p", cross(a, b), N[v]), np.einsum("pc,pc->p", a, b) - along_a * along_b)
         turn += np.bincount(v, angle, minlength=n)
         folded += np.bincount(v, angle <= 0, minlength=n)
-    H = half_edges(F).astype(np.int64)
-    key = np.sort(H[:, 0] * n + H[:, 1])
-
-    def count(k):
-        return np.searchsorted(key, k, "right") - np.searchsorted(key, k, "left")
-
-    one_way = (count(H[:, 0] * n + H[:, 1]) == 1) & (count(H[:, 1] * n + H[:, 0]) == 1)
+    # each edge in two faces, one each way: in one pair of twins, each of them in no other
+    H = half_edges(F)
+    i, j = twin_half_edges(F)
+    pairs = np.bincount(np.r_[i, j], minlength=len(H))
+    one_way = np.zeros(len(H), dtype=bool)
+    good = (pairs[i] == 1) & (pairs[j] == 1) & (H[i, 0] == H[j, 1])
+    one_way[i[good]] = one_way[j[good]] = True
     closed = np.ones(n, dtype=bool)
     closed[H[~one_way].ravel()] = False
     # the angles of a closed fan sum to a whole number of turns
