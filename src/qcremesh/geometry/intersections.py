@@ -187,10 +187,11 @@ def _flat_fans(V, F):
 
 
 def _candidate_pairs(V, F, flat):
-    """Pairs (i, j), i < j, of faces that may meet, every pair that does among them (but
-    those with only a vertex v in common where ``flat[v]``, see :func:`_flat_fans`):
-    compiled (extra ``fast``), those whose bounding boxes meet and that have no edge in
-    common (:func:`qcremesh.geometry.compiled.box_pairs_kernel`); else those whose
+    """Pairs (i, j), i < j, of faces that may meet, every pair that does among them but
+    those with only a vertex v in common where ``flat[v]`` (see :func:`_flat_fans`; the
+    caller spares them): compiled (extra ``fast``), those whose bounding boxes meet and
+    that have no edge in common nor only such a vertex
+    (:func:`qcremesh.geometry.compiled.box_pairs_kernel`); else those whose
     bounding spheres (about the centroid, through the farthest corner) meet, the faces
     grouped by radius in octaves, each group in a k-d tree, so that a few large faces do
     not widen the search of the small ones."""
