@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..mesh.topology import half_edges, twin_half_edges
+from ..mesh.topology import boundary_edges, inconsistent_edges, nonmanifold_edges, twin_half_edges
 from ..mesh.validate import as_mesh_arrays
 from .compiled import box_pairs_kernel
 from .distance import face_grid
@@ -173,15 +173,12 @@ def _flat_fans(V, F):
         angle = np.arctan2(np.einsum("pc,pc->p", cross(a, b), N[v]), np.einsum("pc,pc->p", a, b) - along_a * along_b)
         turn += np.bincount(v, angle, minlength=n)
         folded += np.bincount(v, angle <= 0, minlength=n)
-    # each edge in two faces, one each way: in one pair of twins, each of them in no other
-    H = half_edges(F)
-    i, j = twin_half_edges(F)
-    pairs = np.bincount(np.r_[i, j], minlength=len(H))
-    one_way = np.zeros(len(H), dtype=bool)
-    good = (pairs[i] == 1) & (pairs[j] == 1) & (H[i, 0] == H[j, 1])
-    one_way[i[good]] = one_way[j[good]] = True
+    # each edge in two faces, one each way: not on the boundary, in more faces, or
+    # traversed twice the same way
+    twins = twin_half_edges(F)
     closed = np.ones(n, dtype=bool)
-    closed[H[~one_way].ravel()] = False
+    for bad in (boundary_edges(F, twins), nonmanifold_edges(F, twins), inconsistent_edges(F, twins)):
+        closed[bad.ravel()] = False
     # the angles of a closed fan sum to a whole number of turns
     return closed & (folded == 0) & (np.abs(turn - 2 * np.pi) < 1)
 
@@ -252,10 +249,8 @@ def self_intersections(V, F):
     [[0, 2], [1, 2]]
     """
     V, F = as_mesh_arrays(V, F)
-    V = np.asarray(V, dtype=np.float64)
     if V.shape[1] == 2:
         V = np.column_stack([V, np.zeros(len(V))])
-    F = np.asarray(F, dtype=np.int64)
     flat = _flat_fans(V, F)
     pairs = _candidate_pairs(V, F, flat)
     A, B = F[pairs[:, 0]], F[pairs[:, 1]]
