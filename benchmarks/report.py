@@ -241,14 +241,6 @@ REMESH_HEADER = [
 ]
 
 
-def _self_intersections(q):
-    if "self_intersecting_faces" not in q:  # results measured before they were counted
-        return "n/a"
-    if "reference_self_intersecting_faces" not in q:
-        return f"{q['self_intersecting_faces']:,}"
-    return f"{q['self_intersecting_faces']:,} ({q['reference_self_intersecting_faces']:,})"
-
-
 def _remesh_cells(r):
     q = r["quality"]
     return [
@@ -265,7 +257,7 @@ def _remesh_cells(r):
         _pct(q["boundary_hausdorff"]),
         "yes" if q["manifold"] else "no",
         q["boundary_loops"],
-        _self_intersections(q),
+        f"{q['self_intersecting_faces']:,} ({q['reference_self_intersecting_faces']:,})",
         f"{r['peak_rss_mb']:.0f}",
     ]
 
