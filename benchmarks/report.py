@@ -404,9 +404,9 @@ def _sizing_section(results):
     }
     out = [
         "## Sizing\n",
-        "qcremesh with `sizing=\"curvature\"` (edges down to 0.6 of the rest where the surface "
-        "leaves its tangent plane at half an edge the most), one run each, seed 0; after the "
-        "slash, the default (uniform) run of the remesh part.\n",
+        "qcremesh with `sizing=\"curvature\"` (edges from 0.4 to 2 times the planned length, "
+        "scaled to even out how far the surface leaves its tangent plane at half an edge), one "
+        "run each, seed 0; after the slash, the default (uniform) run of the remesh part.\n",
     ]
 
     def beside(r, key, fmt):

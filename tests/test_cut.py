@@ -458,7 +458,9 @@ def test_cut_disk_with_a_sizing_field_welds():
     it had an ear on each side of a seam at the same place, which the weld folded onto
     each other (test_weld_cut_drops_ears_folded_onto_each_other)."""
     V, F = read_mesh(shared("Hand1.off"))
-    sizing = curvature_sizing(V, F, np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * (len(F) // 2))))
+    edge = np.sqrt(4 * doublearea(V, F).sum() / 2 / (np.sqrt(3) * (len(F) // 2)))
+    # the field of the curvature sizing when only shortening edges was its default
+    sizing = curvature_sizing(V, F, edge, min_ratio=0.6, max_ratio=1.0, quantile=0.8, gradation=0.2)
     r = remesh(V, F, len(F) // 2, sizing=sizing)
     assert r.stats["crowded_cuts"] >= 1
     assert euler_characteristic(r.F) == -1 and len(boundary_loops(r.F)) == 1

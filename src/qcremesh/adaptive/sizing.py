@@ -35,7 +35,9 @@ def check_sizing(sizing, n):
     return s / s.max()
 
 
-def curvature_sizing(V, F, edge_length, *, min_ratio=0.6, quantile=0.8, gradation=0.2, neighbours=16):
+def curvature_sizing(
+    V, F, edge_length, *, min_ratio=0.4, max_ratio=2.0, quantile=0.5, gradation=0.5, neighbours=16
+):
     """Relative edge lengths that follow the surface's bending at the scale of an edge.
 
     An edge of length h across a surface of normal curvature k leaves it by about
@@ -46,13 +48,23 @@ def curvature_sizing(V, F, edge_length, *, min_ratio=0.6, quantile=0.8, gradatio
         e(v) = max_p |n_v . (p - v)| min(1, (h / 2)^2 / |p - v|^2),
 
     directly within h / 2 and scaled as the square of the distance beyond (n_v the
-    area-weighted vertex normal). Where e exceeds its ``quantile`` e_q over the vertices
-    where the surface bends (e above 1e-6 of its largest; so a plane with one bump gets
-    shorter edges on the bump), the edges are shortened so that the deviation, which goes
-    as the square of the edge length, comes down to e_q, but by no more than
-    ``min_ratio``:
+    area-weighted vertex normal). The deviation goes as the square of the edge length, so
+    the edges are scaled to bring it to the ``quantile`` e_q of e over the vertices where
+    the surface bends (e above 1e-6 of its largest; so a plane with one bump gets shorter
+    edges on the bump): shorter where e > e_q, by no more than ``min_ratio``, and longer
+    where the surface is flatter, by no more than ``max_ratio``:
 
-        s(v) = clip(sqrt(e_q / e(v)), min_ratio, 1).
+        s(v) = clip(sqrt(e_q / e(v)), min_ratio, max_ratio) / max_ratio.
+
+    With the face count fixed this evens the deviation out instead of only cutting its
+    peaks. At the defaults (the median, edges from 0.4 to 2 times the planned length),
+    at the input's face count and at half of it, the Hausdorff distance to the input in %
+    of the bounding-box diagonal went (uniform -> this) on head_neck_cut.obj from
+    0.22 / 0.39 to 0.07 / 0.13, hand.ply 0.22 / 0.26 to 0.12 / 0.26, foot.off 0.27 / 0.44
+    to 0.25 / 0.34, human_face.obj 0.38 / 0.57 to 0.30 / 0.58, but human_brain.ply (bent
+    everywhere at the scale of an edge) 0.39 to 0.50; the mean radius ratio is lower, by
+    up to 0.02 on these and 0.04 on meshes of a few thousand faces.
+    ``max_ratio=1`` only shortens edges (where e > e_q).
 
     Last, s grows by at most ``gradation`` per edge length away from where it is small,
     s(v) <= s(p) + gradation |p - v| / h for the ``neighbours`` nearest vertices p within
@@ -66,6 +78,8 @@ def curvature_sizing(V, F, edge_length, *, min_ratio=0.6, quantile=0.8, gradatio
         The mean output edge length planned.
     min_ratio : float
         Shortest relative edge length, in (0, 1].
+    max_ratio : float
+        Longest relative edge length, at least 1.
     quantile : float
         Quantile of e (where the surface bends) above which the edges are shortened, in
         (0, 1].
@@ -77,10 +91,12 @@ def curvature_sizing(V, F, edge_length, *, min_ratio=0.6, quantile=0.8, gradatio
     Returns
     -------
     (n,) float
-        In [min_ratio, 1].
+        In [min_ratio / max_ratio, 1].
     """
     if not 0 < min_ratio <= 1:
         raise ValueError("min_ratio must be in (0, 1]")
+    if not max_ratio >= 1:
+        raise ValueError("max_ratio must be at least 1")
     if not 0 < quantile <= 1:
         raise ValueError("quantile must be in (0, 1]")
     if not edge_length > 0:
@@ -101,8 +117,8 @@ def curvature_sizing(V, F, edge_length, *, min_ratio=0.6, quantile=0.8, gradatio
     if not bends.any():
         return np.ones(n)
     e_q = np.quantile(e[bends], quantile)
-    s = np.clip(np.sqrt(e_q / np.maximum(e, 1e-300)), min_ratio, 1.0)
-    if gradation > 0 and min_ratio < 1:
+    s = np.clip(np.sqrt(e_q / np.maximum(e, 1e-300)), min_ratio, max_ratio) / max_ratio
+    if gradation > 0 and min_ratio < max_ratio:
         dist, near = tree.query(V, k=k, distance_upper_bound=2 * h, workers=query_workers(len(V)))
         found = np.isfinite(dist)
         near = np.where(found, near, np.arange(n)[:, None])

@@ -161,7 +161,8 @@ def _add_remesh_options(parser):
     parser.add_argument(
         "--sizing",
         metavar="curvature|NAME",
-        help="grade the edge lengths: 'curvature' (shorter where the surface bends at their scale) or the name "
+        help="grade the edge lengths: 'curvature' (shorter where the surface bends at their scale, longer where "
+        "it is flat) or the name "
         "of a per-vertex array of the input holding the relative edge length wanted",
     )
     parser.add_argument(

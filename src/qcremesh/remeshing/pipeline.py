@@ -453,7 +453,8 @@ def remesh(
         Edge length wanted at each input vertex relative to the others (only the ratios
         count: the face count sets the scale), or ``"curvature"`` for
         :func:`qcremesh.adaptive.sizing.curvature_sizing` at the output's mean edge
-        length (edges down to 0.6 of the rest where the surface bends at their scale).
+        length (edges from 0.4 to 2 times that length, scaled to even out how far the
+        surface bends away from them).
         The landmarks spread the surface area weighted by sizing^-2 and the boundary
         ones, and the relaxation's boundary vertices, the boundary length weighted by
         sizing^-1; the interior keeps the grading of the landmarks' connectivity. Not
