@@ -124,8 +124,7 @@ def test_remesh_with_the_curvature_sizing_keeps_closer_to_a_real_surface():
     distance to the input, whose largest value comes down (0.90 -> 0.79 % of the
     bounding-box diagonal), the triangles still well shaped."""
     V, F = read_mesh(DATA / "fran_cut.ply")
-    plain = mesh_quality(*(lambda r: (r.V, r.F))(remesh(V, F)), reference=(V, F))
-    graded = mesh_quality(*(lambda r: (r.V, r.F))(remesh(V, F, sizing="curvature")), reference=(V, F))
+    plain, graded = (mesh_quality(r.V, r.F, reference=(V, F)) for r in (remesh(V, F), remesh(V, F, sizing="curvature")))
     assert graded["hausdorff"] < 0.9 * plain["hausdorff"]
     assert abs(graded["faces"] - len(F)) <= 0.05 * len(F)
     assert graded["q_mean"] >= 0.97 and graded["q_min"] >= 0.3
