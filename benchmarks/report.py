@@ -405,7 +405,8 @@ def _sizing_section(results):
     out = [
         "## Sizing\n",
         "qcremesh with `sizing=\"curvature\"` (edges from 0.4 to 2 times the planned length, "
-        "scaled to even out how far the surface leaves its tangent plane at half an edge), one "
+        "scaled to even out how far the surface leaves its tangent plane at half an edge, and "
+        "along the border no longer than the same rule gives for the border's bend), one "
         "run each, seed 0; after the slash, the default (uniform) run of the remesh part.\n",
     ]
 

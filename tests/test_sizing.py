@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from conftest import DATA, holed_disk
+from conftest import DATA, grid_disk, holed_disk
 
 from qcremesh.adaptive.basemesh import delaunay_disk_mesh, hexagonal_disk_points
 from qcremesh.adaptive.landmarks import boundary_angles, boundary_landmarks, interpolate_on_boundary, smoothed_arc_length
@@ -78,8 +78,40 @@ def test_curvature_sizing_evens_out_the_deviation():
     s = curvature_sizing(V, F, 0.1, min_ratio=0.1, max_ratio=10.0, gradation=0.0)
     high, low = s[np.argmin(r1)], s[np.argmin(r2)]
     np.testing.assert_allclose(high / low, 0.5, rtol=0.05)
-    assert s.max() == 1.0 and np.all(s[(r1 > 0.4) & (r2 > 0.4)] == 1.0)
+    inside = np.ones(len(V), dtype=bool)
+    inside[boundary_loop(F)] = False
+    assert s.max() == 1.0 and np.all(s[(r1 > 0.4) & (r2 > 0.4) & inside] == 1.0)
     assert high < low < 1.0
+
+
+def test_curvature_sizing_follows_the_bend_of_the_boundary():
+    """A flat square with a bump in the middle: its straight sides keep the longest
+    edges, as the plane inside; its corners, where the boundary turns, get the planned
+    length and no less."""
+    uv, F = grid_disk(41)
+    xy = 2 * uv - 1
+    bump = 0.02 * np.maximum(0.0, 1 - (np.linalg.norm(xy, axis=1) / 0.3) ** 2) ** 2
+    s = curvature_sizing(np.column_stack([xy, bump]), F, 0.1, gradation=0.0)
+    corners = (np.abs(xy) == 1).all(1)
+    sides = (np.abs(xy) == 1).any(1) & (np.abs(xy) < 0.85).all(1)
+    plane = (np.linalg.norm(xy, axis=1) > 0.4) & (np.abs(xy) < 1).all(1)
+    assert np.all(s[sides] == 1.0) and np.all(s[plane] == 1.0)
+    np.testing.assert_array_equal(s[corners], 0.5)
+    # the same bump in disks of radius 1 and 2 at the same spacing: the circle leaves its
+    # tangent line by h^2 / (8 R), so its edges grow as the square root of the radius
+    ends = []
+    for radius, spacing in ((1.0, 0.03), (2.0, 0.015)):
+        V, F = flat_disk(spacing)
+        V[:, :2] *= radius
+        r = np.linalg.norm(V[:, :2], axis=1)
+        V[:, 2] = 0.04 * np.maximum(0.0, 1 - (r / 0.3) ** 2) ** 2
+        s = curvature_sizing(V, F, 0.1, gradation=0.0)
+        loop = boundary_loop(F)
+        np.testing.assert_allclose(s[loop], s[loop[0]], rtol=1e-9)
+        assert np.all(s[(r > 0.5) & (r < radius - 0.2)] == 1.0)
+        ends.append(s[loop[0]])
+    assert 0.5 < ends[0] < ends[1] < 1.0
+    np.testing.assert_allclose(ends[1] / ends[0], np.sqrt(2), rtol=0.01)
 
 
 def test_arc_length_and_boundary_landmarks_in_the_metric_of_a_density():

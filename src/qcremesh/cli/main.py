@@ -162,7 +162,7 @@ def _add_remesh_options(parser):
         "--sizing",
         metavar="curvature|NAME",
         help="grade the edge lengths: 'curvature' (shorter where the surface bends at their scale, longer where "
-        "it is flat) or the name "
+        "it is flat, and along the border no longer than its bend allows) or the name "
         "of a per-vertex array of the input holding the relative edge length wanted",
     )
     parser.add_argument(
