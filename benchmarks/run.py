@@ -16,9 +16,9 @@ Seven parts; each tool runs in a process of its own (worker.py), kept for its jo
 * seeds: qcremesh on human_face (fran_cut in quick mode) with the CVT seeds 0-3 at half
   its face count: how much min q and the Hausdorff distance depend on the draw of
   landmarks.
-* sizing: qcremesh with ``sizing="curvature"`` at both face counts on the meshes of the
-  Hausdorff targets and human_brain (the quick meshes in quick mode), beside its default
-  runs of the remesh part.
+* sizing: qcremesh with ``sizing="curvature"`` at both face counts on the eight disk
+  meshes of ../shared/data (the quick meshes in quick mode), beside its default runs of
+  the remesh part.
 * creases: every remesher and qcremesh with ``creases=60`` on synthetic CAD-like surfaces
   with creases (shapes.py: an open box, a closed cube, a plateau, a mesa; the open box only
   in quick mode) at both face counts.
@@ -63,7 +63,10 @@ ABLATION_METHODS = ["uniform", "base", "subdivided", "teichmuller"]
 ABLATION_RELAX = [0, 40]
 SEED_MESHES = ["human_face.obj"]
 SEEDS = [0, 1, 2, 3]
-SIZING_MESHES = ["foot.off", "hand.ply", "head_neck_cut.obj", "human_face.obj", "human_brain.ply"]
+SIZING_MESHES = [
+    "venus.off", "camel_b.obj", "fran_cut.ply", "foot.off", "hand.ply", "head_neck_cut.obj", "human_face.obj",
+    "human_brain.ply",
+]
 CREASE_ANGLE = 60.0
 QUICK_SHAPES = ["open_box"]
 
