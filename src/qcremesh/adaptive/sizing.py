@@ -36,6 +36,19 @@ def check_sizing(sizing, n):
     return s / s.max()
 
 
+def _deviation_at_scale(P, tree, h, neighbours, offset):
+    """How far the points around each of ``P`` (p, 3) leave a line or plane through it, at
+    the scale of the edge length ``h``, (p,): the largest ``offset`` (a function of the
+    vectors (p, k, 3) from each point to its ``neighbours`` nearest points of ``tree``
+    within h, to their offsets (p, k)), taken directly within h / 2 and scaled as the
+    square of the distance beyond; 0 where no point lies within h."""
+    dist, near = tree.query(P, k=min(neighbours + 1, len(P)), distance_upper_bound=h, workers=query_workers(len(P)))
+    found = np.isfinite(dist[:, 1:])
+    near = np.where(found, near[:, 1:], np.arange(len(P))[:, None])
+    dist = np.where(found, dist[:, 1:], 1.0)
+    return np.where(found, offset(P[near] - P[:, None]) * (h / 2 / np.maximum(dist, h / 2)) ** 2, 0.0).max(1)
+
+
 def _boundary_deviation(V, F, h, neighbours):
     """The boundary vertices b, (b,) int, and the distance of the boundary curve from its
     tangent line at each, at the scale of the edge length ``h``, (b,) float: as the
@@ -53,13 +66,11 @@ def _boundary_deviation(V, F, h, neighbours):
     length = norm(tangent)
     tangent /= np.where(length > 0, length, 1.0)[:, None]
     P = V[b]
-    dist, near = cKDTree(P).query(P, k=min(neighbours + 1, len(b)), distance_upper_bound=h)
-    found = np.isfinite(dist[:, 1:])
-    near = np.where(found, near[:, 1:], np.arange(len(b))[:, None])
-    dist = np.where(found, dist[:, 1:], 1.0)
-    w = P[near] - P[:, None]
-    off = norm(w - np.einsum("nkc,nc->nk", w, tangent)[..., None] * tangent[:, None])
-    deviation = np.where(found, off * (h / 2 / np.maximum(dist, h / 2)) ** 2, 0.0).max(1)
+
+    def off_tangent(w):
+        return norm(w - np.einsum("nkc,nc->nk", w, tangent)[..., None] * tangent[:, None])
+
+    deviation = _deviation_at_scale(P, cKDTree(P), h, neighbours, off_tangent)
     return b, np.where(length > 0, deviation, np.inf)
 
 
@@ -159,23 +170,19 @@ def curvature_sizing(
     h = float(edge_length)
     normal = vertex_normals(V, F)
     tree = cKDTree(V)
-    k = min(neighbours + 1, n)
-    dist, near = tree.query(V, k=k, distance_upper_bound=h, workers=query_workers(len(V)))
-    found = np.isfinite(dist[:, 1:])
-    near = np.where(found, near[:, 1:], np.arange(n)[:, None])
-    dist = np.where(found, dist[:, 1:], 1.0)
-    height = np.abs(np.einsum("nkc,nc->nk", V[near] - V[:, None], normal))
-    e = np.where(found, height * (h / 2 / np.maximum(dist, h / 2)) ** 2, 0.0).max(1)
+    e = _deviation_at_scale(V, tree, h, neighbours, lambda w: np.abs(np.einsum("nkc,nc->nk", w, normal)))
     bends = e > 1e-6 * e.max()
     if not bends.any():
         return np.ones(n)
     e_q = np.quantile(e[bends], quantile)
     s = np.clip(np.sqrt(e_q / np.maximum(e, 1e-300)), min_ratio, max_ratio) / max_ratio
-    boundary, deviation = _boundary_deviation(V, F, h, neighbours)
-    curve = np.clip(np.sqrt(e_q / np.maximum(deviation, 1e-300)), 1, max_ratio) / max_ratio
-    s[boundary] = np.minimum(s[boundary], curve)
+    if max_ratio > 1:
+        # (with max_ratio 1 the border's bound is 1, above every s)
+        boundary, deviation = _boundary_deviation(V, F, h, neighbours)
+        curve = np.clip(np.sqrt(e_q / np.maximum(deviation, 1e-300)), 1, max_ratio) / max_ratio
+        s[boundary] = np.minimum(s[boundary], curve)
     if gradation > 0 and min_ratio < max_ratio:
-        dist, near = tree.query(V, k=k, distance_upper_bound=2 * h, workers=query_workers(len(V)))
+        dist, near = tree.query(V, k=min(neighbours + 1, n), distance_upper_bound=2 * h, workers=query_workers(n))
         found = np.isfinite(dist)
         near = np.where(found, near, np.arange(n)[:, None])
         bound = np.where(found, gradation * dist / h, 0.0)
