@@ -4,6 +4,7 @@ from scipy.spatial import Delaunay, cKDTree
 
 from conftest import DATA, delaunay_excess, tube_disk
 from qcremesh.adaptive.basemesh import (
+    VALENCE_FLIP_QUALITY,
     delaunay_disk_mesh,
     flip_for_boundary_valence,
     flip_for_surface_quality,
@@ -402,6 +403,26 @@ def test_boundary_valence_flips_give_border_vertices_three_faces():
     assert radius_ratio(X, G).min() > radius_ratio(X, F).min()
     same, none = flip_for_boundary_valence(uv, F, X, np.zeros(len(uv), dtype=bool))
     assert none == 0 and np.array_equal(same, F)
+
+
+def test_boundary_valence_flips_leave_a_sharp_tooth_one_face():
+    """A tooth of 11.4 degrees at the border with two faces, both through an interior
+    vertex below it (radius ratio 0.088): the flip leaves its tip one face, the tooth
+    itself (0.358, the most a face there can have; below VALENCE_FLIP_QUALITY, which a
+    flip elsewhere must reach)."""
+    X = np.array([[0, 5, 0], [-0.5, 0, 0], [-2, -1, 0], [0, -3, 0], [2, -1, 0], [0.5, 0, 0], [0, -1, 0]], float)
+    F = np.array([[0, 1, 6], [0, 6, 5], [1, 2, 6], [2, 3, 6], [3, 4, 6], [4, 5, 6]])
+    uv = X[:, :2]
+    wanted = np.array([1, 0, 0, 0, 0, 0, 0])
+    G, flips = flip_for_boundary_valence(uv, F, X, wanted)
+    assert flips == 1
+    assert np.count_nonzero((G == 0).any(axis=1)) == 1
+    tip = G[(G == 0).any(axis=1)][0]
+    assert sorted(tip.tolist()) == [0, 1, 5]
+    assert np.all(signed_doublearea(uv, G) > 0)
+    np.testing.assert_allclose(radius_ratio(X, F).min(), 0.088, atol=0.001)
+    np.testing.assert_allclose(radius_ratio(X, G).min(), 0.358, atol=0.001)
+    assert radius_ratio(X, G).min() < VALENCE_FLIP_QUALITY
 
 
 def test_area_samples_are_even_by_area_on_every_face():

@@ -188,8 +188,11 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
     from 45 to 30 degrees; at a straight border, from 60 to 45), keeps the
     interior valences within 5-7, makes two faces counter-clockwise in the disk whose
     smaller radius ratio on the surface (at ``X``) is at least ``VALENCE_FLIP_QUALITY``
-    and at least that of the two faces replaced. Each round flips, best gain first, edges
-    that share no vertex.
+    and at least that of the two faces replaced; where the flip takes a face from a
+    corner that wants one and has more, only the latter (no face at a corner sharper
+    than about 17 degrees reaches ``VALENCE_FLIP_QUALITY``, and the tooth of a ragged
+    border cut by a plane, 11 degrees at its tip, kept the three faces that made its
+    output's slivers). Each round flips, best gain first, edges that share no vertex.
 
     Parameters
     ----------
@@ -233,7 +236,10 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
             on[d] | (count[d] < 7)
         )
         old, new, embedded = _flip_quality(uv, X, F, f1, f2, a, b, c, d)
-        ok = (drop > 0) & interior_ok & (new >= np.maximum(VALENCE_FLIP_QUALITY, old)) & embedded
+        # (a sharp corner's faces cannot reach VALENCE_FLIP_QUALITY)
+        sharp = ((wanted[a] == 1) & (excess[a] > 0)) | ((wanted[b] == 1) & (excess[b] > 0))
+        floor = np.where(sharp, old, np.maximum(VALENCE_FLIP_QUALITY, old))
+        ok = (drop > 0) & interior_ok & (new >= floor) & embedded
         return np.where(ok, drop + new, -1.0)
 
     return flip_edges(F, gain, rounds, disjoint="vertices")
