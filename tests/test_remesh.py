@@ -605,3 +605,47 @@ def test_progress_is_told_each_stage_as_it_starts_and_the_times_are_theirs():
     r = remesh(V, F, faces=1800, method="subdivided", relax=0, progress=heard.append)
     assert list(dict.fromkeys(heard)) == ["parameterize", "landmarks", "base mesh", "subdivide", "project"]
     assert set(r.times) == set(heard)
+
+
+def test_teeth_of_a_plane_cut_get_one_face_at_their_tips():
+    """decimated-max cut by a plane through its faces' centroids has a border of single
+    decimation slivers sticking out, the sharpest 11.1 degrees at its tip (a radius ratio
+    of 0.348 at most there). The base mesh's valence flips leave such a tip one face even
+    where it is below VALENCE_FLIP_QUALITY: min q 0.344 at the face count, where three
+    faces at that tip made it 0.031."""
+    V, F = read_mesh(shared("decimated-max.obj"))
+    y = V[F].mean(axis=1)[:, 1]
+    G = F[y > y.min() + 0.2 * (y.max() - y.min())]
+    _, label = connected_components(G, len(V))
+    G = G[label == np.bincount(label).argmax()]
+    used = np.unique(G)
+    V, F = V[used], np.searchsorted(used, G)
+    check_disk(V, F)
+    r = remesh(V, F)
+    assert abs(len(r.F) - len(F)) <= 0.05 * len(F)
+    assert r.stats["sharpest_corner_degrees"] < 11.2 and r.stats["corner_quality_bound"] < 0.35
+    assert radius_ratio(r.V, r.F).min() >= 0.3
+
+
+def test_a_peninsula_narrower_than_the_base_spacing_gets_fewer_levels():
+    """A bent square with a strip two grid cells wide and 0.4 long sticking out: at 3,000
+    faces the base mesh of two levels is spaced about 0.1, four times the strip's width,
+    and has no landmark along it, which leaves 92 faces below 0.3 (min q 0.001). The
+    landmarks are then planned at one level fewer, which has none."""
+    k, width, length = 80, 0.025, 0.4
+    g = np.linspace(0.0, 1.0 + length, int(round(k * (1 + length))) + 1)
+    P = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+    F = Delaunay(P).simplices
+    c = P[F].mean(axis=1)
+    F = F[((c[:, 0] < 1) & (c[:, 1] < 1)) | ((c[:, 0] > 1) & (np.abs(c[:, 1] - 0.5) < width / 2))]
+    used = np.unique(F)
+    P, F = P[used], np.searchsorted(used, F)
+    V = np.column_stack([P, 0.1 * np.sin(3 * P[:, 0]) * np.cos(2 * P[:, 1])])
+    check_disk(V, F)
+    once = remesh(V, F, faces=3000, retries=0)
+    assert once.stats["levels_tried"] == [2] and radius_ratio(once.V, once.F).min() < 0.3
+    r = remesh(V, F, faces=3000)
+    assert r.stats["levels_tried"] == [2, 1] and r.stats["levels"] == 1
+    q = radius_ratio(r.V, r.F)
+    assert q.min() >= 0.3 and q.mean() >= 0.97
+    assert abs(len(r.F) - 3000) <= 0.05 * 3000

@@ -460,14 +460,23 @@ def remesh_disk(
     # draw is kept, while at most MAX_REDRAWN_SLIVERS faces are.
     draws = 1 + (retries if relax > 0 and method != "uniform" else 0)
     # Where the CVT's cells come out far from equal on the surface (above MAX_CELL_SPREAD),
-    # fewer levels (more landmarks) are planned and the landmarks drawn again.
+    # fewer levels (more landmarks) are planned and the landmarks drawn again. Where the
+    # best draw still has a face below QUALITY_FLOOR, so are they too (with redraws, and
+    # but for a piece whose levels its caller sets, ``boundary_edge_length``), and the
+    # levels with the largest smallest radius ratio kept: a part of the disk narrower
+    # than the base mesh's spacing gets no landmark inside and its border none along it
+    # (decimated-max.obj cut by a plane: a peninsula 5 wide and 25 long at a spacing of
+    # 10, min q 0.045 / 0.124 at its face count / half, 0.415 / 0.373 with no level).
+    fewer_below_floor = draws > 1 and boundary_edge_length is None
+    kept, tried = None, []
     while True:
         levels = _levels_with_interior(V, F, bnd, faces, levels, density)
-        stats["levels"] = levels
+        tried.append(levels)
+        plan_stats = {"levels": levels}
         clock.start("landmarks")
         plan = _landmarking(
             V, F, dm, faces, levels, density, method, corner_angle, corner_at, fixed_boundary, boundary_edge_length,
-            stats,
+            plan_stats,
         )
         clock.stop("landmarks")
         best = None
@@ -485,11 +494,13 @@ def remesh_disk(
             slivers = np.count_nonzero(q < QUALITY_FLOOR)
             if slivers == 0 or slivers > MAX_REDRAWN_SLIVERS:
                 break
-        if best is not None or levels == 0:
+        if best is not None and (kept is None or best[0] > kept[0]):
+            kept = (best[0], best[1], dict(plan_stats, draws=draw + 1))
+        if levels == 0 or (best is not None and (best[0] >= QUALITY_FLOOR or not fewer_below_floor)):
             break
         levels -= 1
-    uv, Fo, hierarchy, Vo, mu, run = best[1]
-    stats.update(run, draws=draw + 1)
+    uv, Fo, hierarchy, Vo, mu, run = kept[1]
+    stats.update(kept[2], levels_tried=tried, **run)
 
     clock.start("project")
     on_circle = np.zeros(len(uv), dtype=bool)

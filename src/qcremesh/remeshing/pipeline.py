@@ -448,7 +448,11 @@ def remesh(
         faces (more come from the surface, not the draw), the landmarks are drawn again
         from another CVT initialization, up to this many times, and the draw with the
         largest smallest radius ratio is kept (``stats["draws"]`` is the number
-        made). Only with ``relax`` and a method that draws landmarks.
+        made). Where the best draw still has such a face, the same is done at one level
+        fewer, down to none, and the levels with the largest smallest radius ratio kept
+        (``stats["levels_tried"]``): a part of the disk narrower than the base mesh's
+        spacing gets landmarks only at fewer levels. Only with ``relax``, ``retries``
+        and a method that draws landmarks.
     sizing : (n,) float or "curvature", optional
         Edge length wanted at each input vertex relative to the others (only the ratios
         count: the face count sets the scale), or ``"curvature"`` for
