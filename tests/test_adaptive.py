@@ -22,7 +22,7 @@ from qcremesh.adaptive.landmarks import (
     voronoi_owner,
 )
 from qcremesh.geometry.operators import doublearea, signed_doublearea
-from qcremesh.geometry.quality import radius_ratio
+from qcremesh.geometry.quality import corner_radius_ratio_bound, radius_ratio
 from qcremesh.mesh.io import read_mesh
 from qcremesh.mesh.subdivide import upsample
 from qcremesh.mesh.topology import boundary_loops, euler_characteristic
@@ -407,22 +407,26 @@ def test_boundary_valence_flips_give_border_vertices_three_faces():
 
 def test_boundary_valence_flips_leave_a_sharp_tooth_one_face():
     """A tooth of 11.4 degrees at the border with two faces, both through an interior
-    vertex below it (radius ratio 0.088): the flip leaves its tip one face, the tooth
-    itself (0.358, the most a face there can have; below VALENCE_FLIP_QUALITY, which a
-    flip elsewhere must reach)."""
+    vertex below it (radius ratio 0.088): given the corner's bound (0.358, below
+    VALENCE_FLIP_QUALITY), the flip leaves its tip one face, the tooth itself, as good as
+    a face there can be; without it, the flip is refused as any whose faces stay below
+    VALENCE_FLIP_QUALITY."""
     X = np.array([[0, 5, 0], [-0.5, 0, 0], [-2, -1, 0], [0, -3, 0], [2, -1, 0], [0.5, 0, 0], [0, -1, 0]], float)
     F = np.array([[0, 1, 6], [0, 6, 5], [1, 2, 6], [2, 3, 6], [3, 4, 6], [4, 5, 6]])
     uv = X[:, :2]
     wanted = np.array([1, 0, 0, 0, 0, 0, 0])
-    G, flips = flip_for_boundary_valence(uv, F, X, wanted)
+    bound = np.ones(7)
+    bound[0] = corner_radius_ratio_bound(2 * np.arctan(0.1))[0]
+    np.testing.assert_allclose(bound[0], 0.358, atol=0.001)
+    G, flips = flip_for_boundary_valence(uv, F, X, wanted, bound=bound)
     assert flips == 1
-    assert np.count_nonzero((G == 0).any(axis=1)) == 1
-    tip = G[(G == 0).any(axis=1)][0]
-    assert sorted(tip.tolist()) == [0, 1, 5]
+    tip = G[(G == 0).any(axis=1)]
+    assert len(tip) == 1 and sorted(tip[0].tolist()) == [0, 1, 5]
     assert np.all(signed_doublearea(uv, G) > 0)
     np.testing.assert_allclose(radius_ratio(X, F).min(), 0.088, atol=0.001)
-    np.testing.assert_allclose(radius_ratio(X, G).min(), 0.358, atol=0.001)
-    assert radius_ratio(X, G).min() < VALENCE_FLIP_QUALITY
+    np.testing.assert_allclose(radius_ratio(X, G).min(), bound[0])
+    same, none = flip_for_boundary_valence(uv, F, X, wanted)
+    assert none == 0 and np.array_equal(same, F) and bound[0] < VALENCE_FLIP_QUALITY
 
 
 def test_area_samples_are_even_by_area_on_every_face():

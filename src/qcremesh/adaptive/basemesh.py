@@ -145,6 +145,10 @@ def flip_for_surface_quality(uv, F, X, flippable, rounds=50):
     flippable : (n,) bool
         An edge may flip only when a corner of its two faces is flippable.
     rounds : int
+    bound : (n,) float, optional
+        The largest radius ratio a face at each vertex can have on the surface (at a
+        corner, :func:`qcremesh.geometry.quality.corner_radius_ratio_bound`); 1 by
+        default.
 
     Returns
     -------
@@ -172,7 +176,7 @@ def _flip_quality(uv, X, F, f1, f2, a, b, c, d):
     return np.minimum(q[f1], q[f2]), np.minimum(radius_ratio(X, new1), radius_ratio(X, new2)), embedded
 
 
-def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
+def flip_for_boundary_valence(uv, F, X, boundary, rounds=20, bound=None):
     """Flip edges of a disk mesh so that its boundary vertices have three faces each, as
     a straight border of equilateral triangles does, and its corners as many as their
     angle asks for.
@@ -189,10 +193,10 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
     interior valences within 5-7, makes two faces counter-clockwise in the disk whose
     smaller radius ratio on the surface (at ``X``) is at least ``VALENCE_FLIP_QUALITY``
     and at least that of the two faces replaced; where the flip takes a face from a
-    corner that wants one and has more, only the latter (no face at a corner sharper
-    than about 17 degrees reaches ``VALENCE_FLIP_QUALITY``, and the tooth of a ragged
-    border cut by a plane, 11 degrees at its tip, kept the three faces that made its
-    output's slivers). Each round flips, best gain first, edges that share no vertex.
+    vertex with more than it wants whose ``bound`` is below ``VALENCE_FLIP_QUALITY`` (a
+    corner sharper than about 17 degrees), only the latter (the tooth of a ragged border
+    cut by a plane, 11 degrees at its tip, kept the three faces that made its output's
+    slivers). Each round flips, best gain first, edges that share no vertex.
 
     Parameters
     ----------
@@ -206,6 +210,10 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
         given where an int (a corner of angle a: about a / 60 degrees), none where False
         or 0.
     rounds : int
+    bound : (n,) float, optional
+        The largest radius ratio a face at each vertex can have on the surface (at a
+        corner, :func:`qcremesh.geometry.quality.corner_radius_ratio_bound`); 1 by
+        default.
 
     Returns
     -------
@@ -220,6 +228,7 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
     # A face more or less turns the faces' angles at a vertex of angle 60 w by about
     # 60 / w degrees: the squares weighed by (3 / w)^2, 1 on a straight border.
     weight = np.where(wanted > 0, (3.0 / np.maximum(wanted, 1)) ** 2, 0.0)
+    bound = np.ones(len(uv)) if bound is None else np.asarray(bound, dtype=np.float64)
 
     def gain(F, f1, f2, a, b, c, d):
         count = np.bincount(F.ravel(), minlength=len(uv))
@@ -237,7 +246,9 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20):
         )
         old, new, embedded = _flip_quality(uv, X, F, f1, f2, a, b, c, d)
         # (a sharp corner's faces cannot reach VALENCE_FLIP_QUALITY)
-        sharp = ((wanted[a] == 1) & (excess[a] > 0)) | ((wanted[b] == 1) & (excess[b] > 0))
+        sharp = ((excess[a] > 0) & (bound[a] < VALENCE_FLIP_QUALITY)) | (
+            (excess[b] > 0) & (bound[b] < VALENCE_FLIP_QUALITY)
+        )
         floor = np.where(sharp, old, np.maximum(VALENCE_FLIP_QUALITY, old))
         ok = (drop > 0) & interior_ok & (new >= floor) & embedded
         return np.where(ok, drop + new, -1.0)

@@ -184,6 +184,7 @@ class _Landmarking:
     theta: np.ndarray  # (b,) angles of the boundary landmarks
     corner: np.ndarray  # (b,) bool, the corners among them
     corner_faces: np.ndarray  # faces wanted at each corner
+    corner_bound: np.ndarray  # the best smallest radius ratio of a fan filling each corner
     lattice_spacing: float = 0.0  # of the hexagonal lattice of "uniform"
     samples_uv: np.ndarray | None = None  # (s, 2) the CVT's samples of the disk
     samples_V: np.ndarray | None = None  # (s, 3) and their points on the surface
@@ -205,14 +206,14 @@ def _landmarking(
         nbu = max(int(round(2 * np.pi / spacing)), 3)
         theta = 2 * np.pi * np.arange(nbu) / nbu
         corner = np.zeros(nbu, dtype=bool)
-        return _Landmarking(levels, ni, base_faces, boundary_spacing, theta, corner, np.zeros(0), spacing)
+        return _Landmarking(levels, ni, base_faces, boundary_spacing, theta, corner, np.zeros(0), np.zeros(0), spacing)
     theta, corner = boundary_landmarks(
         V, dm.uv, bnd, nb, corner_angle, None if density is None else density[bnd],
         corners=corner_at, smooth=not fixed_boundary,
         spacing=None if boundary_edge_length is None else boundary_edge_length * 2**levels,
     )
     stats["boundary_corners"] = int(corner.sum())
-    corner_faces = np.zeros(0)
+    corner_faces = corner_bound = np.zeros(0)
     if corner.any():
         # The sharpest corner kept bounds the smallest radius ratio of the output,
         # up to its boundary edges being chords (a ragged border can have teeth of
@@ -223,8 +224,9 @@ def _landmarking(
         # the faces a convex corner wants, one per 60 degrees (a reflex one, a
         # slit's end, none: camel_b's mean q moved by 0.001 either way over 4 seeds)
         corner_faces = np.where(angle < np.pi, np.maximum(np.round(angle / (np.pi / 3)), 1), 0)
+        corner_bound = corner_radius_ratio_bound(angle)
         stats["sharpest_corner_degrees"] = float(np.degrees(angle.min()))
-        stats["corner_quality_bound"] = float(corner_radius_ratio_bound(angle).min())
+        stats["corner_quality_bound"] = float(corner_bound.min())
     samples_uv, samples_V, samples_F = dm.uv, V, F
     samples_density = density
     halvings = 0
@@ -256,7 +258,7 @@ def _landmarking(
     circle = np.column_stack([np.cos(theta), np.sin(theta)])
     circle_V = interpolate_on_boundary(boundary_angles(dm.uv, bnd), V[bnd], theta)
     return _Landmarking(
-        levels, ni, base_faces, boundary_spacing, theta, corner, corner_faces, 0.0, samples_uv, samples_V,
+        levels, ni, base_faces, boundary_spacing, theta, corner, corner_faces, corner_bound, 0.0, samples_uv, samples_V,
         cvt_mass, cvt_weight, circle, circle_V,
     )
 
@@ -319,7 +321,9 @@ def _adaptive_mesh(
         # right-angled corner with three faces, min q 0.335 -> 0.663).
         wanted = 3 * on_circle
         wanted[: len(theta)][plan.corner] = plan.corner_faces
-        base_F, flips = flip_for_boundary_valence(base_uv, base_F, base_X, wanted)
+        bound = np.ones(len(base_uv))
+        bound[: len(theta)][plan.corner] = plan.corner_bound
+        base_F, flips = flip_for_boundary_valence(base_uv, base_F, base_X, wanted, bound=bound)
         run.update(base_valence_flips=flips)
     run.update(base_vertices=len(base_uv), base_faces=len(base_F))
 
@@ -461,12 +465,14 @@ def remesh_disk(
     draws = 1 + (retries if relax > 0 and method != "uniform" else 0)
     # Where the CVT's cells come out far from equal on the surface (above MAX_CELL_SPREAD),
     # fewer levels (more landmarks) are planned and the landmarks drawn again. Where the
-    # best draw still has a face below QUALITY_FLOOR, so are they too (with redraws, and
-    # but for a piece whose levels its caller sets, ``boundary_edge_length``), and the
-    # levels with the largest smallest radius ratio kept: a part of the disk narrower
+    # best draw still has a face below QUALITY_FLOOR, fewer levels are planned too (where
+    # redraws are made, and not for a piece whose levels its caller sets, with
+    # ``boundary_edge_length``), and the levels with the largest smallest radius ratio
+    # are kept: a part of the disk narrower
     # than the base mesh's spacing gets no landmark inside and its border none along it
-    # (decimated-max.obj cut by a plane: a peninsula 5 wide and 25 long at a spacing of
-    # 10, min q 0.045 / 0.124 at its face count / half, 0.415 / 0.373 with no level).
+    # (decimated-max.obj cut by a plane: a peninsula about 5 wide and 25 long at a
+    # spacing of 26 / 37, min q 0.045 / 0.124 at its face count / half, 0.415 / 0.373
+    # with no level).
     fewer_below_floor = draws > 1 and boundary_edge_length is None
     kept, tried = None, []
     while True:
