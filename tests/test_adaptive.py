@@ -6,8 +6,8 @@ from conftest import DATA, delaunay_excess, tube_disk
 from qcremesh.adaptive.basemesh import (
     VALENCE_FLIP_QUALITY,
     delaunay_disk_mesh,
-    flip_for_boundary_valence,
     flip_for_surface_quality,
+    flip_for_valence,
     hexagonal_disk_points,
     subdivide_disk_mesh,
 )
@@ -23,6 +23,7 @@ from qcremesh.adaptive.landmarks import (
 )
 from qcremesh.geometry.operators import doublearea, signed_doublearea
 from qcremesh.geometry.quality import corner_radius_ratio_bound, radius_ratio
+from qcremesh.geometry.triangulation import flip_edges
 from qcremesh.mesh.io import read_mesh
 from qcremesh.mesh.subdivide import upsample
 from qcremesh.mesh.topology import boundary_loops, euler_characteristic
@@ -389,7 +390,7 @@ def test_boundary_valence_flips_give_border_vertices_three_faces():
     uv, F = delaunay_disk_mesh(theta, hexagonal_disk_points(0.15))
     X = np.column_stack([uv, np.zeros(len(uv))])
     border = np.arange(len(uv)) < 60
-    G, flips = flip_for_boundary_valence(uv, F, X, border)
+    G, flips = flip_for_valence(uv, F, X, border)
 
     def excess(F):
         return int(((np.bincount(F.ravel(), minlength=len(uv))[:60] - 3) ** 2).sum())
@@ -401,7 +402,7 @@ def test_boundary_valence_flips_give_border_vertices_three_faces():
     inner = np.bincount(G.ravel(), minlength=len(uv))[60:]
     assert inner.min() >= 5 and inner.max() <= 7
     assert radius_ratio(X, G).min() > radius_ratio(X, F).min()
-    same, none = flip_for_boundary_valence(uv, F, X, np.zeros(len(uv), dtype=bool))
+    same, none = flip_for_valence(uv, F, X, np.zeros(len(uv), dtype=bool))
     assert none == 0 and np.array_equal(same, F)
 
 
@@ -418,15 +419,42 @@ def test_boundary_valence_flips_leave_a_sharp_tooth_one_face():
     bound = np.ones(7)
     bound[0] = corner_radius_ratio_bound(2 * np.arctan(0.1))[0]
     np.testing.assert_allclose(bound[0], 0.358, atol=0.001)
-    G, flips = flip_for_boundary_valence(uv, F, X, wanted, bound=bound)
+    G, flips = flip_for_valence(uv, F, X, wanted, bound=bound)
     assert flips == 1
     tip = G[(G == 0).any(axis=1)]
     assert len(tip) == 1 and sorted(tip[0].tolist()) == [0, 1, 5]
     assert np.all(signed_doublearea(uv, G) > 0)
     np.testing.assert_allclose(radius_ratio(X, F).min(), 0.088, atol=0.001)
     np.testing.assert_allclose(radius_ratio(X, G).min(), bound[0])
-    same, none = flip_for_boundary_valence(uv, F, X, wanted)
+    same, none = flip_for_valence(uv, F, X, wanted)
     assert none == 0 and np.array_equal(same, F) and bound[0] < VALENCE_FLIP_QUALITY
+
+
+def test_valence_flips_give_interior_vertices_six_faces():
+    """A hexagonal lattice with 16 edges flipped (vertex-disjoint, each leaving two
+    triangles of 30, 30 and 120 degrees, radius ratio 0.46) has 38 % of its inner vertices
+    at five or seven faces; flips towards six faces there restore the lattice, with or
+    without ``monotone``."""
+    uv = hexagonal_disk_points(0.1)
+    F = Delaunay(uv).simplices
+    F = np.where((signed_doublearea(uv, F) < 0)[:, None], F[:, [0, 2, 1]], F)
+    X = np.column_stack([uv, np.zeros(len(uv))])
+    inner = np.linalg.norm(uv, axis=1) < 0.7
+    order = np.random.default_rng(0).random
+
+    def scramble(F, f1, f2, a, b, c, d):
+        return np.where(inner[a] & inner[b] & inner[c] & inner[d], order(len(a)), -1.0)
+
+    G, scrambled = flip_edges(F, scramble, 1, disjoint="vertices")
+
+    def six(F):
+        return (np.bincount(F.ravel(), minlength=len(uv))[inner] == 6).mean()
+
+    assert scrambled == 16 and six(F) == 1 and six(G) < 0.63
+    for monotone in (True, False):
+        H, flips = flip_for_valence(uv, G, X, np.where(inner, 6, 0), monotone=monotone)
+        assert flips == 16 and six(H) == 1
+        assert np.array_equal(np.unique(np.sort(H, axis=1), axis=0), np.unique(np.sort(F, axis=1), axis=0))
 
 
 def test_area_samples_are_even_by_area_on_every_face():

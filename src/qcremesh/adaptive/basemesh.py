@@ -14,7 +14,7 @@ from ..mesh.topology import boundary_edges
 __all__ = [
     "delaunay_disk_mesh",
     "flip_for_surface_quality",
-    "flip_for_boundary_valence",
+    "flip_for_valence",
     "subdivide_disk_mesh",
     "hexagonal_disk_points",
 ]
@@ -145,10 +145,6 @@ def flip_for_surface_quality(uv, F, X, flippable, rounds=50):
     flippable : (n,) bool
         An edge may flip only when a corner of its two faces is flippable.
     rounds : int
-    bound : (n,) float, optional
-        The largest radius ratio a face at each vertex can have on the surface (at a
-        corner, :func:`qcremesh.geometry.quality.corner_radius_ratio_bound`); 1 by
-        default.
 
     Returns
     -------
@@ -176,10 +172,10 @@ def _flip_quality(uv, X, F, f1, f2, a, b, c, d):
     return np.minimum(q[f1], q[f2]), np.minimum(radius_ratio(X, new1), radius_ratio(X, new2)), embedded
 
 
-def flip_for_boundary_valence(uv, F, X, boundary, rounds=20, bound=None):
-    """Flip edges of a disk mesh so that its boundary vertices have three faces each, as
-    a straight border of equilateral triangles does, and its corners as many as their
-    angle asks for.
+def flip_for_valence(uv, F, X, wanted, rounds=20, bound=None, monotone=True):
+    """Flip edges of a disk mesh so that its vertices have the numbers of faces wanted:
+    three at a boundary vertex, as a straight border of equilateral triangles has, as
+    many as their angle asks for at the corners, six at an interior vertex.
 
     A Delaunay triangulation of landmarks on the circle gives many of them two faces (two
     right angles where the surface border is straight) or four; subdivision keeps the
@@ -190,13 +186,21 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20, bound=None):
     lowers sum (3 / wanted)^2 (faces - wanted)^2 over the vertices with a wanted count
     (a face too many at a right-angled corner, which wants 2, turns its faces' angles
     from 45 to 30 degrees; at a straight border, from 60 to 45), keeps the
-    interior valences within 5-7, makes two faces counter-clockwise in the disk whose
+    interior valences within 5-7, and makes two faces counter-clockwise in the disk whose
     smaller radius ratio on the surface (at ``X``) is at least ``VALENCE_FLIP_QUALITY``
-    and at least that of the two faces replaced; where the flip takes a face from a
-    vertex with more than it wants whose ``bound`` is below ``VALENCE_FLIP_QUALITY`` (a
-    corner sharper than about 17 degrees), only the latter (the tooth of a ragged border
-    cut by a plane, 11 degrees at its tip, kept the three faces that made its output's
-    slivers). Each round flips, best gain first, edges that share no vertex.
+    and, with ``monotone``, at least that of the two faces replaced (without, for a mesh
+    relaxed after the flips, which evens out the faces they skew). Where a flip takes a
+    face from a vertex with more than it wants whose ``bound`` is below
+    ``VALENCE_FLIP_QUALITY`` (a corner sharper than about 17 degrees), it needs only the
+    latter (the tooth of a ragged border cut by a plane, 11 degrees at its tip, kept the
+    three faces that made its output's slivers). Each round flips, best gain first, edges
+    that share no vertex.
+
+    The base mesh's interior vertices are left to its subdivision and Teichmueller map;
+    where the base mesh is the output (no level), relaxed, about half of them have six
+    faces, and flips towards six without ``monotone`` before a second relaxation (as an
+    isotropic remesher flips) raise that to about two thirds (camel_b.obj at its face
+    count: 0.50 -> 0.66, mean radius ratio 0.940 -> 0.953).
 
     Parameters
     ----------
@@ -205,15 +209,17 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20, bound=None):
         Counter-clockwise triangles of the disk.
     X : (n, 3) float
         The vertices' points on the surface.
-    boundary : (n,) bool or int
+    wanted : (n,) bool or int
         The faces wanted at each vertex: 3 where True (a straight border), the count
-        given where an int (a corner of angle a: about a / 60 degrees), none where False
-        or 0.
+        given where an int (a corner of angle a: about a / 60 degrees, 6 inside), none
+        where False or 0.
     rounds : int
     bound : (n,) float, optional
         The largest radius ratio a face at each vertex can have on the surface (at a
         corner, :func:`qcremesh.geometry.quality.corner_radius_ratio_bound`); 1 by
         default.
+    monotone : bool
+        Whether a flip must also not lower the smaller radius ratio of the two faces.
 
     Returns
     -------
@@ -223,8 +229,8 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20, bound=None):
     """
     on = np.zeros(len(uv), dtype=bool)
     on[boundary_edges(F).ravel()] = True
-    boundary = np.asarray(boundary)
-    wanted = 3 * boundary.astype(np.int64) if boundary.dtype == bool else boundary.astype(np.int64)
+    wanted = np.asarray(wanted)
+    wanted = 3 * wanted.astype(np.int64) if wanted.dtype == bool else wanted.astype(np.int64)
     # A face more or less turns the faces' angles at a vertex of angle 60 w by about
     # 60 / w degrees: the squares weighed by (3 / w)^2, 1 on a straight border.
     weight = np.where(wanted > 0, (3.0 / np.maximum(wanted, 1)) ** 2, 0.0)
@@ -249,7 +255,7 @@ def flip_for_boundary_valence(uv, F, X, boundary, rounds=20, bound=None):
         sharp = ((excess[a] > 0) & (bound[a] < VALENCE_FLIP_QUALITY)) | (
             (excess[b] > 0) & (bound[b] < VALENCE_FLIP_QUALITY)
         )
-        floor = np.where(sharp, old, np.maximum(VALENCE_FLIP_QUALITY, old))
+        floor = np.where(sharp, old, np.maximum(VALENCE_FLIP_QUALITY, old)) if monotone else VALENCE_FLIP_QUALITY
         ok = (drop > 0) & interior_ok & (new >= floor) & embedded
         return np.where(ok, drop + new, -1.0)
 

@@ -34,8 +34,8 @@ import numpy as np
 
 from ..adaptive.basemesh import (
     delaunay_disk_mesh,
-    flip_for_boundary_valence,
     flip_for_surface_quality,
+    flip_for_valence,
     hexagonal_disk_points,
     subdivide_disk_mesh,
 )
@@ -323,7 +323,7 @@ def _adaptive_mesh(
         wanted[: len(theta)][plan.corner] = plan.corner_faces
         bound = np.ones(len(base_uv))
         bound[: len(theta)][plan.corner] = plan.corner_bound
-        base_F, flips = flip_for_boundary_valence(base_uv, base_F, base_X, wanted, bound=bound)
+        base_F, flips = flip_for_valence(base_uv, base_F, base_X, wanted, bound=bound)
         run.update(base_valence_flips=flips)
     run.update(base_vertices=len(base_uv), base_faces=len(base_F))
 
@@ -395,6 +395,18 @@ def _adaptive_mesh(
             # The coarse vertices keep their input faces; the new ones are found
             # from them.
             faces_hint = np.r_[coarse_faces, np.full(len(uv) - len(coarse_uv), -1)]
+            sweeps = max(relax // 2, 1)
+        elif valence_flips and levels == 0:
+            # The output is the base mesh, whose connectivity no subdivision keeps:
+            # relaxed, its edges are flipped towards six faces at every interior vertex
+            # as well, and it is relaxed again (see flip_for_valence).
+            uv, X, faces_hint = relax_on_surface(
+                dm.uv, F, V, uv, Fo, iterations=relax, pinned=pinned, boundary_scale=scale, min_quality=0,
+                regular_rounds=0, density=density, fixed_boundary=fixed_boundary, return_faces=True,
+            )
+            Fo, flips = flip_for_valence(uv, Fo, X, np.where(on_circle, wanted, 6), bound=bound, monotone=False)
+            hierarchy = [(uv, Fo)]
+            run.update(output_valence_flips=flips)
             sweeps = max(relax // 2, 1)
         uv, Vo = relax_on_surface(
             dm.uv, F, V, uv, Fo, iterations=sweeps, pinned=pinned, boundary_scale=scale, faces=faces_hint,

@@ -57,12 +57,17 @@ def weld_levels(levels, join, chi, loops):
             Xw, Fw, kept = join(X, Fo, weld_tolerance(X, Fo))
         except ValueError:
             return None
-        ok = (
-            len(Fw) > 0
-            and euler_characteristic(Fw) == chi
-            and len(boundary_loops(Fw)) == loops
-            and not len(nonmanifold_edges(Fw))
-        )
+        try:
+            ok = (
+                len(Fw) > 0
+                and euler_characteristic(Fw) == chi
+                and not len(nonmanifold_edges(Fw))
+                and len(boundary_loops(Fw)) == loops
+            )
+        except ValueError:
+            # (boundary edges not consistently oriented: two faces turned against each
+            # other across a welded vertex)
+            ok = False
         return (Xw, Fw, kept) if ok else None
 
     # the output level first: the coarser ones only where it joins
