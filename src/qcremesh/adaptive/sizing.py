@@ -121,8 +121,9 @@ def curvature_sizing(
     0.22 / 0.39 to 0.07 / 0.13, hand.ply 0.22 / 0.26 to 0.12 / 0.23, foot.off 0.27 / 0.44
     to 0.24 / 0.26, human_face.obj 0.38 / 0.57 to 0.30 / 0.39, fran_cut.ply 0.90 / 1.16 to
     0.68 / 0.70, but human_brain.ply (bent everywhere at the scale of an edge) 0.39 / 0.61
-    to 0.42 / 0.47; the mean radius ratio is lower, by up to 0.04 (human_brain.ply at half
-    its face count 0.981 -> 0.939), and Hand1.off at its face count gets a sliver (min radius
+    to 0.42 / 0.47; the mean radius ratio is lower, by up to 0.024 (human_brain.ply at half
+    its face count 0.981 -> 0.957; 0.939 before base-mesh outputs got interior valence
+    flips), and Hand1.off at its face count gets a sliver (min radius
     ratio 0.008). The boundary rule took foot.off from 0.25 / 0.34 and human_face.obj at
     half from 0.58 (and fran_cut.ply from 0.79 / 0.83); capping s at the planned length on
     every boundary vertex instead lowered foot.off as much but took human_face.obj at its
