@@ -450,6 +450,24 @@ def test_cut_disk_cut_again_where_its_map_crowds():
     assert quality["q_min"] >= 0.3 and quality["q_mean"] >= 0.985 and quality["hausdorff"] <= 0.004
 
 
+def test_pieces_with_slivers_cut_again_where_their_maps_crowd():
+    """face-YH.off (a face scan in four pieces, the largest with two holes) at half its
+    face count: its cut disk, cut where its map crowds, left in its largest piece a flap
+    of the scan's border whose area that piece's own map crushed to 1e-10 of its share of
+    the surface: no output vertex inside, a fan of slivers (136 faces below 0.3, min q
+    0.002, Hausdorff distance 1.31 % of the diagonal). The pieces holding slivers are cut
+    again where their own maps crowd, and that remesh kept for its larger min q: 32
+    faces below 0.3, Hausdorff distance 0.23 %."""
+    V, F = read_mesh(shared("face-YH.off"))
+    r = remesh(V, F, len(F) // 2)
+    assert r.stats["crowded_recut"] is True
+    assert len(boundary_loops(r.F)) == 6 and not len(nonmanifold_edges(r.F))
+    assert abs(len(r.F) - len(F) // 2) <= 0.05 * (len(F) // 2)
+    quality = mesh_quality(r.V, r.F, reference=(V, F))
+    assert np.count_nonzero(radius_ratio(r.V, r.F) < 0.3) <= 40 and quality["hausdorff"] <= 0.004
+    assert quality["q_mean"] >= 0.975
+
+
 def test_cut_disk_with_a_sizing_field_welds():
     """Hand1.off at half its face count with a curvature sizing field computed on the
     surface (as remesh(sizing="curvature") now does for a surface it cuts open): its cut

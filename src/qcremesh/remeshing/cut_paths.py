@@ -24,6 +24,7 @@ __all__ = [
     "crease_cuts",
     "crowded_cuts",
     "crowded_ends",
+    "pieces_crowded_cuts",
     "split_pieces",
     "trimmed_cut",
 ]
@@ -95,23 +96,41 @@ def crease_cuts(V, F, sharp, paths, faces):
 
     cut = np.concatenate([sharp] + edges_of(paths_to_boundary(V, F, sharp) + paths))
     for _ in range(CREASE_ROUNDS):
-        F_cut, parent = cut_along_edges(F, cut, len(V))
-        count, label = connected_components(F_cut, len(parent))
-        area = np.bincount(label, doublearea(V[parent], F_cut), count)
-        more = []
-        for k, (used, Fk) in enumerate(split_pieces(F_cut, label, count)):
-            Vk = V[parent[used]]
-            try:
-                dm = disk_conformal_map(Vk, Fk)
-            except MeshError:
-                continue
-            if dm.narrowest_arcs > CROWDED_SHARE_FIXED * len(dm.boundary):
-                share = max(faces * area[k] / area.sum(), 1.0)
-                more += [parent[used][p] for p in crowded_cuts(Vk, Fk, dm, share)]
+        more = pieces_crowded_cuts(V, F, cut, faces, CROWDED_SHARE_FIXED)
         if not more:
             break
         cut = np.concatenate([cut] + edges_of(more))
     return edge_paths(cut, len(V), stops=boundary_edges(F).ravel())
+
+
+def pieces_crowded_cuts(V, F, cut, faces, share=None, where=None):
+    """The crowded cuts (:func:`crowded_cuts`) of the pieces that cutting the disk (V, F)
+    along the edges ``cut`` (k, 2) makes, each on its own disk map with its share of the
+    ``faces`` by area, as paths of vertices of (V, F): of the pieces whose map gives more
+    than ``share`` of their boundary vertices the narrowest arc (every piece where None)
+    and, with points ``where`` (p, 3), that hold the vertex nearest one of them; [] where
+    there is none."""
+    F_cut, parent = cut_along_edges(F, cut, len(V))
+    count, label = connected_components(F_cut, len(parent))
+    area = np.bincount(label, doublearea(V[parent], F_cut), count)
+    chosen = np.ones(count, dtype=bool)
+    if where is not None:
+        piece = np.zeros(len(parent), dtype=np.int64)
+        piece[F_cut.ravel()] = np.repeat(label, 3)
+        chosen[:] = False
+        chosen[piece[cKDTree(V[parent]).query(where)[1]]] = True
+    more = []
+    for k, (used, Fk) in enumerate(split_pieces(F_cut, label, count)):
+        if not chosen[k]:
+            continue
+        Vk = V[parent[used]]
+        try:
+            dm = disk_conformal_map(Vk, Fk)
+        except MeshError:
+            continue
+        if share is None or dm.narrowest_arcs > share * len(dm.boundary):
+            more += [parent[used][p] for p in crowded_cuts(Vk, Fk, dm, max(faces * area[k] / area.sum(), 1.0))]
+    return more
 
 
 def trimmed_cut(V, F, cut, where, reach):

@@ -31,7 +31,8 @@ import numpy as np
 from ..adaptive.sizing import check_sizing, curvature_sizing, hole_sizing, point_sizing
 from ..geometry.creases import check_crease_angle, sharp_edges
 from ..geometry.operators import doublearea
-from ..mesh.cut import cut_along_edges, cut_to_disk, weld_along_paths, weld_cut
+from ..geometry.quality import radius_ratio
+from ..mesh.cut import cut_along_edges, cut_to_disk, edge_paths, weld_along_paths, weld_cut
 from ..mesh.topology import (
     boundary_edges,
     boundary_loop,
@@ -51,8 +52,17 @@ from ..mesh.validate import (
     check_not_soup,
 )
 from ..param.disk import disk_conformal_map
-from .cut_paths import CROWDED_SHARE, CROWDED_SHARE_FIXED, crease_cuts, crowded_cuts, split_pieces, trimmed_cut
+from .cut_paths import (
+    CROWDED_SHARE,
+    CROWDED_SHARE_FIXED,
+    crease_cuts,
+    crowded_cuts,
+    pieces_crowded_cuts,
+    split_pieces,
+    trimmed_cut,
+)
 from .disk_remesh import levels_above_min_base, output_edge_length, planned_levels, remesh_disk
+from .min_quality import QUALITY_FLOOR
 from .mend import refine_long_boundary, renumbered, repair_input, upsampled
 from .result import RemeshResult, StageTimes
 from .weld import coincident_pairs, crack_hint, join_pieces, weld_defects, weld_levels
@@ -171,7 +181,7 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     return RemeshResult(Vo, Fo, result.uv, levels, out_data, result.disk_levels, result.mu, stats, result.times)
 
 
-def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, options, name="crowded"):
+def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, options, name="crowded", min_levels=None):
     """:func:`remesh` of a disk cut along ``paths`` (from :func:`crowded_cuts`, where
     its map crowds parts of the boundary, or :func:`crease_cuts`) into pieces, each
     remeshed on its own map with a share of the faces by area (counted times sizing^-2
@@ -184,7 +194,8 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
     not weld into a disk is dropped). A path that would cut off a piece of fewer than
     MIN_PIECE_FACES faces is not cut; nor, for the crowded cuts (``name`` "crowded"), one
     that would cut off a piece without an interior vertex, or planned at fewer levels
-    than one below the largest piece
+    than one below the largest piece (than ``min_levels`` where given; None where a piece
+    then takes fewer)
     (:func:`~qcremesh.remeshing.disk_remesh.planned_levels`; every piece would take them:
     Hand1.off's cut disk at half its face count, two pieces of a few hundred faces at no
     level, took 11.9 s instead of 5.3 s, mean q 0.966 instead of 0.987). The
@@ -231,8 +242,8 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
         if not small and name == "crowded":
             # Pieces planned at fewer levels than one below the largest's (which all
             # pieces would then take) are not cut off.
-            most = planned[int(np.argmax([piece[2] for piece in pieces]))]
-            small = [vertices for vertices, level in zip(members, planned) if level < most - 1]
+            least = planned[int(np.argmax([piece[2] for piece in pieces]))] - 1 if min_levels is None else min_levels
+            small = [vertices for vertices, level in zip(members, planned) if level < least]
         if not small:
             break
         # The paths that cut off a piece too small, without an interior vertex or (with
@@ -240,7 +251,7 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
         kept = [p for p in paths if not any(np.isin(p[[0, -1]], u).all() for u in small)]
         if len(kept) == len(paths):
             return None
-        paths = kept
+        paths = _joined_paths(kept, boundary_edges(F))
     if any(euler_characteristic(Fk) != 1 or len(boundary_loops(Fk)) != 1 for _, Fk, *_ in pieces):
         # (a crease's closed loop whose join to the boundary went with a small piece)
         return None
@@ -251,7 +262,9 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
     results = [None] * len(pieces)
     levels = min((level for level in planned if level is not None), default=options["levels"])
     while True:
-        for k, (Vk, Fk, share, corners, piece_data, dk) in enumerate(pieces):
+        # the smallest first: with min_levels, a piece that takes fewer ends it soonest
+        for k in np.argsort([piece[2] for piece in pieces], kind="stable"):
+            Vk, Fk, share, corners, piece_data, dk = pieces[k]
             if results[k] is None or results[k].stats["levels"] > levels:
                 # the piece's field scaled to a largest value of 1: its density to a least of 1
                 scale = 1.0 if dk is None else dk.min()
@@ -259,6 +272,8 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
                     Vk, Fk, share, fixed_boundary=True, corners=corners, boundary_edge_length=edge / scale,
                     sizing=None if dk is None else 1.0 / dk, data=piece_data, **dict(options, levels=levels),
                 )
+                if min_levels is not None and results[k].stats["levels"] < min_levels:
+                    return None
         used = [r.stats["levels"] for r in results]
         if min(used) == max(used):
             break
@@ -273,6 +288,54 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
     return RemeshResult(
         Vo, Fo, joined.uv, hierarchy, out_data, joined.disk_levels, joined.mu, joined.stats, joined.times
     )
+
+
+def _joined_paths(paths, border):
+    """The ``paths`` whose two ends each lie on the ``border`` edges or on another of
+    them, dropped until every one does (a path of a second round of cuts that ends on
+    one of the first, which went, would cut a slit)."""
+    on_border = np.unique(border)
+    while True:
+        joined = [
+            np.isin(p[[0, -1]], np.concatenate([on_border] + [q for j, q in enumerate(paths) if j != i])).all()
+            for i, p in enumerate(paths)
+        ]
+        if all(joined):
+            return paths
+        paths = [p for p, ok in zip(paths, joined) if ok]
+
+
+def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, result):
+    """``result`` of :func:`_remesh_along_paths` along the crowded ``paths``, or, where it
+    has faces below QUALITY_FLOOR, the pieces holding them are cut again where their own
+    maps crowd (:func:`~qcremesh.remeshing.cut_paths.pieces_crowded_cuts`: cutting off a
+    part changes the map of what is left) and the remesh along all the paths, where its
+    smallest radius ratio is larger (``stats["crowded_recut"]`` says which, where tried;
+    the times are of both). face-YH.off at half its face count: a flap of its scan's
+    border, 0.5 % of the area of the largest piece, that piece's map crushed to 1e-10 of
+    its area on the surface, had no output vertex inside, a fan of slivers (min radius
+    ratio 0.002, Hausdorff distance 1.31 % of the diagonal); cut off, 0.012 and 0.23 %.
+    ``corners_of(paths)`` gives the corners of the pieces along ``paths``."""
+    q = radius_ratio(result.V, result.F)
+    slivers = q < QUALITY_FLOOR
+    if not slivers.any():
+        return result
+    cut = np.concatenate([np.column_stack([p[:-1], p[1:]]) for p in paths])
+    more = pieces_crowded_cuts(V, F, cut, faces, where=result.V[result.F[slivers]].mean(1))
+    if not more:
+        return result
+    cut = np.concatenate([cut] + [np.column_stack([p[:-1], p[1:]]) for p in more])
+    paths = edge_paths(cut, len(V), stops=boundary_edges(F).ravel())
+    again = _remesh_along_paths(
+        V, F, paths, faces, corners_of(paths), sizing, data, stats, options, min_levels=result.stats["levels"]
+    )
+    better = again is not None and bool(radius_ratio(again.V, again.F).min() > q.min())
+    kept, other = (again, result) if better else (result, again)
+    if other is not None:
+        for stage, seconds in other.times.items():
+            kept.times[stage] = kept.times.get(stage, 0.0) + seconds
+    kept.stats["crowded_recut"] = better
+    return kept
 
 
 def _remesh_pieces(V, F, label, count, faces, sizing, fixed_boundary, data, repairs, options):
@@ -623,13 +686,17 @@ def remesh(
     # the boundary vertices at the same points as the paths' ends (their twins on the
     # other side of a cut that the caller welds) are corners too
     twins = coincident_pairs(V, bnd) if fixed_boundary and attempts else None
-    for name, paths in attempts:
+
+    def corners_of(paths):
         given = np.zeros(0, dtype=np.int64) if corners is None else corners
         if twins is not None:
             ends = np.concatenate([p[[0, -1]] for p in paths])
             given = np.union1d(given, twins[np.isin(twins, ends).any(axis=1)].ravel())
+        return given
+
+    for name, paths in attempts:
         try:
-            result = _remesh_along_paths(V, F, paths, faces, given, sizing, data, stats, options, name)
+            result = _remesh_along_paths(V, F, paths, faces, corners_of(paths), sizing, data, stats, options, name)
         except ValueError:
             if name != "crease":
                 raise
@@ -637,6 +704,8 @@ def remesh(
             # CAD part of genus 9 with fillets a face wide: a piece's corner off its
             # boundary): remeshed without the creases, as where they do not weld
             result = None
+        if result is not None and name == "crowded":
+            result = _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, result)
         if result is not None:
             result.times["parameterize"] = result.times.get("parameterize", 0.0) + clock.times["parameterize"]
             return result
