@@ -72,6 +72,11 @@ def test_batch_cli_errors_before_the_work(tmp_path, inputs, capsys):
     assert not out.exists()
     with pytest.raises(SystemExit):  # argparse: not both
         main(["batch", str(inputs[0]), "-o", str(out), "--faces", "100", "--faces-ratio", "0.5"])
+    with pytest.raises(SystemExit):
+        main(["batch", str(inputs[0]), "-o", str(out), "--edge-length", "0.01", "--faces-ratio", "0.5"])
+    capsys.readouterr()
+    assert main(["batch", str(inputs[0]), "-o", str(out), "--edge-length", "-1"]) == 1
+    assert capsys.readouterr().err.strip() == "qcremesh: error: --edge-length must be positive"
 
 
 def test_batch_cli_format(tmp_path, inputs, capsys):
@@ -90,8 +95,12 @@ def test_output_paths():
 def test_remesh_file_options(tmp_path, inputs):
     record = remesh_file(inputs[0], tmp_path / "f.obj", faces=1000, seed=1, levels=1)
     assert abs(record["faces"] - 1000) <= 50 and record["faces_in"] == 4224
-    with pytest.raises(ValueError, match="^give faces or faces_ratio, not both$"):
+    with pytest.raises(ValueError, match="^give one of faces, faces_ratio and edge_length$"):
         remesh_file(inputs[0], tmp_path / "g.obj", faces=10, faces_ratio=0.5)
+    with pytest.raises(ValueError, match="^give one of faces, faces_ratio and edge_length$"):
+        remesh_file(inputs[0], tmp_path / "g.obj", faces_ratio=0.5, edge_length=0.01)
+    record = remesh_file(inputs[0], tmp_path / "e.obj", edge_length=0.0088)
+    assert abs(record["faces"] - 1007) <= 50
     with pytest.raises(ValueError, match=r"^no per-vertex array 'h' to take the sizing from \(the mesh has: uv\)$"):
         remesh_file(inputs[0], tmp_path / "g.obj", sizing="h")
     assert not (tmp_path / "g.obj").exists()

@@ -239,6 +239,16 @@ def test_remesh_cli_orients_the_input_and_warns_of_no_fold(tmp_path, capsys):
     assert "warning" not in captured.err
 
 
+def test_remesh_cli_edge_length(tmp_path, capsys):
+    """--edge-length L: as many faces as equilateral triangles of side L cover the area
+    (fran_cut, 0.0088 in its units, about a seventeenth of its height: 1,007 of them)."""
+    out = tmp_path / "e.ply"
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--edge-length", "0.0088"]) == 0
+    V, F = read_mesh(out)
+    assert abs(len(F) - 1007) <= 50
+    assert "warning" not in capsys.readouterr().err
+
+
 def test_remesh_cli_is_deterministic(tmp_path):
     args = ["remesh", str(DATA / "fran_cut.ply"), "--faces", "1500", "--method", "subdivided", "--seed", "7"]
     assert main(args + ["-o", str(tmp_path / "a.obj")]) == 0
@@ -258,6 +268,16 @@ def test_remesh_cli_errors(tmp_path, capsys):
     )
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", "2"]) == 1
     assert capsys.readouterr().err.strip() == "qcremesh: error: --faces must be at least 4"
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--edge-length", "0"]) == 1
+    assert capsys.readouterr().err.strip() == "qcremesh: error: --edge-length must be positive"
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--edge-length", "1"]) == 1
+    assert capsys.readouterr().err.strip() == (
+        "qcremesh: error: --edge-length: edge_length 1 is too long for this surface: its area takes 0 "
+        "equilateral triangles of that side, and a remesh needs at least 4"
+    )
+    with pytest.raises(SystemExit):  # argparse: not both
+        main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", "100", "--edge-length", "0.01"])
+    capsys.readouterr()
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(tmp_path / "no" / "x.obj")]) == 1
     assert "does not exist" in capsys.readouterr().err
     # an output format it cannot write is told before the remesh (it was a traceback after it)

@@ -27,7 +27,7 @@ from ..remeshing.pipeline import remesh
 __all__ = ["remesh_file", "remesh_files", "output_paths"]
 
 
-def remesh_file(input, output, *, faces=None, faces_ratio=None, sizing=None, **options):
+def remesh_file(input, output, *, faces=None, faces_ratio=None, edge_length=None, sizing=None, **options):
     """Read a mesh, remesh it, measure the result against the input and write it
     (atomically: an error leaves no file).
 
@@ -39,7 +39,11 @@ def remesh_file(input, output, *, faces=None, faces_ratio=None, sizing=None, **o
     faces : int, optional
         Face count wanted (default: the input's).
     faces_ratio : float, optional
-        Face count wanted as a fraction of the input's (not with ``faces``).
+        Face count wanted as a fraction of the input's.
+    edge_length : float, optional
+        Mean output edge length wanted, in the input's units
+        (:func:`qcremesh.remesh`'s ``edge_length``); one of ``faces``, ``faces_ratio``
+        and this at most.
     sizing : "curvature" or str, optional
         ``"curvature"``, or the name of a per-vertex array of the input holding the
         relative edge lengths wanted.
@@ -59,8 +63,8 @@ def remesh_file(input, output, *, faces=None, faces_ratio=None, sizing=None, **o
     MeshReadError, MeshError, ValueError
         The input cannot be read or remeshed, or the output written.
     """
-    if faces is not None and faces_ratio is not None:
-        raise ValueError("give faces or faces_ratio, not both")
+    if sum(x is not None for x in (faces, faces_ratio, edge_length)) > 1:
+        raise ValueError("give one of faces, faces_ratio and edge_length")
     if faces_ratio is not None and not faces_ratio > 0:
         raise ValueError("faces_ratio must be positive")
     start = time.perf_counter()
@@ -72,7 +76,7 @@ def remesh_file(input, output, *, faces=None, faces_ratio=None, sizing=None, **o
             arrays = ", ".join(sorted(data)) or "none"
             raise ValueError(f"no per-vertex array {sizing!r} to take the sizing from (the mesh has: {arrays})")
         sizing = check_sizing(np.asarray(data[sizing], dtype=np.float64).reshape(len(V), -1)[:, 0], len(V))
-    result = remesh(V, F, faces, sizing=sizing, data=data, **options)
+    result = remesh(V, F, faces, edge_length=edge_length, sizing=sizing, data=data, **options)
     quality = mesh_quality(result.V, result.F, reference=(V, F))
     out_data = dict(result.data)
     write_mesh(output, result.V, result.F, uv=out_data.pop("uv", None), data=out_data)

@@ -5,14 +5,14 @@
     ``v``, their disk coordinates as ``vt`` with the same index, and the input faces as
     ``f a/a b/b c/c``.
 
-``qcremesh remesh INPUT -o OUTPUT [--faces N] [--levels L] [--method M] [--seed S] [--relax K] [--sizing S] [--report DIR]``
+``qcremesh remesh INPUT -o OUTPUT [--faces N | --edge-length L] [--levels L] [--method M] [--seed S] [--relax K] [--sizing S] [--report DIR]``
     Quasi-conformal remeshing (Algorithm 2 and projection) of a disk, or of any manifold
     surface (with holes, closed, with handles: cut open, remeshed and welded; one piece
     or several); the output format follows the
     extension. ``--sizing curvature`` grades the edges by the surface's bending,
     ``--sizing NAME`` by a per-vertex array of the input (relative edge lengths).
 
-``qcremesh batch INPUT... -o OUTDIR [--format EXT] [--faces N | --faces-ratio R] [--jobs N] [--json FILE] [remesh's options]``
+``qcremesh batch INPUT... -o OUTDIR [--format EXT] [--faces N | --faces-ratio R | --edge-length L] [--jobs N] [--json FILE] [remesh's options]``
     ``remesh`` of many files into a folder, in parallel processes, with a line per file
     (faces, radius ratio, Hausdorff distance, time) and a summary; a file that fails is
     reported and the others go on (exit status 1 if any failed).
@@ -27,6 +27,7 @@ stderr, the exit status is 1, and no output file is written.
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 import time
@@ -149,7 +150,13 @@ def _parser():
     )
     r.add_argument("input", help="triangle mesh (OBJ, PLY, OFF, STL, VTK, .mat, ...)")
     r.add_argument("-o", "--output", required=True, help="output mesh; the format follows the extension")
-    r.add_argument("--faces", type=int, help="number of output faces (default: the input's)")
+    count = r.add_mutually_exclusive_group()
+    count.add_argument("--faces", type=int, help="number of output faces (default: the input's)")
+    count.add_argument(
+        "--edge-length", type=float, metavar="L",
+        help="mean output edge length, in the mesh's units (instead of --faces: as many faces as equilateral "
+        "triangles of side L cover its area)",
+    )
     _add_remesh_options(r)
     r.add_argument("--report", metavar="DIR", help="write figures and report.html into DIR")
 
@@ -167,6 +174,9 @@ def _parser():
     count.add_argument("--faces", type=int, help="number of output faces of every file")
     count.add_argument(
         "--faces-ratio", type=float, metavar="R", help="number of output faces as a fraction of each input's (default 1)"
+    )
+    count.add_argument(
+        "--edge-length", type=float, metavar="L", help="mean output edge length of every file, in its units"
     )
     _add_remesh_options(b)
     b.add_argument("--jobs", type=int, default=1, metavar="N", help="files remeshed at once, each in a process (default 1)")
@@ -216,6 +226,8 @@ def _add_remesh_options(parser):
 def _check_remesh_options(args):
     if args.faces is not None and args.faces < 4:
         raise CommandError("--faces must be at least 4")
+    if args.edge_length is not None and not (math.isfinite(args.edge_length) and args.edge_length > 0):
+        raise CommandError("--edge-length must be positive")
     if args.levels < 0:
         raise CommandError("--levels must be >= 0")
     if args.relax < 0:
@@ -275,7 +287,7 @@ def _remesh(args, out):
 
     from ..adaptive.sizing import check_sizing
     from ..geometry.quality import mesh_quality
-    from ..remeshing.pipeline import remesh
+    from ..remeshing.pipeline import faces_for_edge_length, remesh
 
     _check_output_folder(args.output)
     try:
@@ -300,10 +312,16 @@ def _remesh(args, out):
             sizing = check_sizing(sizing, len(V))
         except ValueError as exc:
             raise CommandError(f"--sizing {args.sizing}: {exc}") from exc
+    faces = args.faces
+    if args.edge_length is not None:
+        try:
+            faces = faces_for_edge_length(V, F, None, args.edge_length)
+        except ValueError as exc:
+            raise CommandError(f"--edge-length: {exc}") from exc
     update, close = _progress()
     try:
         result = remesh(
-            V, F, args.faces, levels=args.levels, method=args.method, seed=args.seed, relax=args.relax,
+            V, F, faces, levels=args.levels, method=args.method, seed=args.seed, relax=args.relax,
             sizing=sizing, cut_crowded=not args.whole, creases=args.creases, data=data, progress=update,
         )
     except MeshError as exc:
@@ -345,7 +363,7 @@ def _remesh(args, out):
             f"point set's hull) cut into pieces first: {st['boundary_split_vertices']:,} vertices added on them",
             file=out,
         )
-    asked = len(F) if args.faces is None else args.faces
+    asked = len(F) if faces is None else faces
     if abs(len(result.F) - asked) > max(FACE_COUNT_SLACK * asked, 8):
         print(
             f"qcremesh: warning: {len(result.F):,} faces, {100 * abs(len(result.F) - asked) / asked:.0f} % off the "
@@ -476,8 +494,9 @@ def _batch(args, out):
             raise CommandError(f"{output}: {exc}{hint}") from exc
     folder.mkdir(parents=True, exist_ok=True)
     options = dict(
-        faces=args.faces, faces_ratio=args.faces_ratio, levels=args.levels, method=args.method, seed=args.seed,
-        relax=args.relax, sizing=args.sizing, cut_crowded=not args.whole, creases=args.creases,
+        faces=args.faces, faces_ratio=args.faces_ratio, edge_length=args.edge_length, levels=args.levels,
+        method=args.method, seed=args.seed, relax=args.relax, sizing=args.sizing, cut_crowded=not args.whole,
+        creases=args.creases,
     )
     start = time.perf_counter()
     records = []

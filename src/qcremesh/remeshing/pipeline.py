@@ -407,6 +407,24 @@ def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, boundary_edge
     return _remesh_cut(V, F, faces, sizing, data, stats, options)
 
 
+def faces_for_edge_length(V, F, faces, edge_length):
+    """The number of equilateral triangles of side ``edge_length`` that cover the area A
+    of the surface (V, F), round(4 A / (sqrt(3) edge_length^2)): :func:`remesh`'s face
+    count for an ``edge_length``, which does not go with ``faces`` (the count given)."""
+    if faces is not None:
+        raise ValueError("give faces or edge_length, not both")
+    length = float(edge_length)
+    if not (np.isfinite(length) and length > 0):
+        raise ValueError(f"edge_length must be positive and finite, got {edge_length!r}")
+    count = round(2 * doublearea(V, F).sum() / (np.sqrt(3) * length**2))
+    if count < 4:
+        raise ValueError(
+            f"edge_length {length:g} is too long for this surface: its area takes {count} equilateral "
+            "triangles of that side, and a remesh needs at least 4"
+        )
+    return count
+
+
 def remesh(
     V,
     F,
@@ -428,6 +446,7 @@ def remesh(
     creases=None,
     data=None,
     progress=None,
+    edge_length=None,
 ):
     """Remesh a triangle mesh of manifold surfaces (disks, surfaces with holes, closed
     surfaces, handles; one piece or several) into a regular, semi-regular one.
@@ -464,6 +483,11 @@ def remesh(
     faces : int, optional
         Number of output faces wanted (the input's by default). The output has this many
         to within a few percent.
+    edge_length : float, optional
+        Mean output edge length wanted, in the units of ``V``, instead of ``faces``: the
+        count of equilateral triangles of that side that cover the surface's area,
+        4 A / (sqrt(3) edge_length^2) (with a sizing field, the edges are graded about
+        it).
     levels : int
         Subdivision levels above the base mesh (the base mesh has about faces / 4^levels
         faces). Fewer are used where the base mesh would get under 100 faces or fewer
@@ -579,6 +603,8 @@ def remesh(
         raise ValueError(f"V must be (n, 3) or (n, 2), got shape {V.shape}")
     if V.shape[1] == 2:
         V = np.column_stack([V, np.zeros(len(V))])
+    if edge_length is not None:
+        faces = faces_for_edge_length(V, F, faces, edge_length)
     faces = len(F) if faces is None else int(faces)
     if faces < 4:
         raise ValueError("faces must be at least 4")
