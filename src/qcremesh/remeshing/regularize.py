@@ -41,7 +41,8 @@ of the input vertex that pulled them (or no farther than it is), raised the shar
 %, its smallest radius ratio 0.47 -> 0.54) but took the Hausdorff distance of human_brain
 at its face count from 0.470 to 0.506 % (seeds 0-3, up on three) and of human_face at
 seed 0 from 0.377 to 0.422 % (an output edge across the groove under the lower eyelid,
-which no input vertex measures); the neighbours alone, 0.477 -> 0.510 % on human_brain.
+which no input vertex measures); the neighbours alone, 0.477 -> 0.510 % on human_brain at
+its face count (seeds 0-1).
 """
 
 from __future__ import annotations
