@@ -115,10 +115,10 @@ def test_remesh_cli_with_report(tmp_path, capsys):
     assert "radius ratio 2 r_in / R_circ: mean" in text and "Hausdorff" in text and "time (s):" in text
     V, F = read_mesh(out)
     assert abs(len(F) - 2000) <= 100
-    for name in ["radius_ratio.png", "disk_meshes.png", "summary.json", "report.html"]:
+    for name in ["surfaces.png", "radius_ratio.png", "disk_meshes.png", "summary.json", "report.html"]:
         assert (report / name).is_file()
     page = (report / "report.html").read_text()
-    assert 'src="radius_ratio.png"' in page and "q_mean" in page
+    assert 'src="surfaces.png"' in page and 'src="radius_ratio.png"' in page and "q_mean" in page
 
 
 def test_remesh_cli_says_when_landmarks_were_drawn_again(tmp_path, capsys):

@@ -1,4 +1,5 @@
-"""Figures for people to look at: disk meshes coloured by |mu| and histograms.
+"""Figures for people to look at: the surfaces coloured by triangle quality and distance,
+disk meshes coloured by |mu|, and histograms.
 
 matplotlib is an optional dependency (the ``plot`` extra); it is imported only when a
 figure is drawn, with the non-interactive Agg backend.
@@ -14,7 +15,16 @@ import numpy as np
 
 from ..mesh.io import atomic_output
 
-__all__ = ["check_figure_path", "plot_disk_map", "plot_radius_ratio", "plot_disk_levels", "write_remesh_report"]
+__all__ = [
+    "check_figure_path",
+    "face_distances",
+    "plot_disk_levels",
+    "plot_disk_map",
+    "plot_radius_ratio",
+    "plot_surfaces",
+    "surface_view",
+    "write_remesh_report",
+]
 
 
 def _pyplot():
@@ -138,6 +148,81 @@ def plot_disk_levels(path, meshes, titles):
         plt.close(fig)
 
 
+def surface_view(V, F):
+    """The rotation that shows a surface from the side most of it faces: (3, 3), its rows
+    the screen's x and y axes (the principal axes of the vertices of second and largest
+    spread: the longer way up) and the direction towards the viewer (the third principal
+    axis, turned to the side of the area-weighted mean normal; a face scan is seen from
+    the front)."""
+    P = np.asarray(V, dtype=np.float64)
+    P = P - P.mean(axis=0)
+    R = np.linalg.eigh(P.T @ P)[1][:, [1, 2, 0]].T
+    if np.linalg.det(R) < 0:
+        R[2] = -R[2]
+    if np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]).sum(axis=0) @ R[2] < 0:
+        R[[0, 2]] = -R[[0, 2]]
+    return R
+
+
+def plot_surfaces(path, panels, view):
+    """Draw surfaces side by side, each face coloured by a value and shaded by how much
+    it faces the viewer, in the orthographic ``view`` of :func:`surface_view` (the faces
+    painted from the farthest to the nearest).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    panels : list of ((n, 3) float, (m, 3) int, (m,) float, str, dict)
+        Vertices, faces, the value of each face, a title, and the colour scale as keyword
+        arguments of :class:`matplotlib.colors.Normalize` with ``cmap`` and ``label``.
+    view : (3, 3) float
+    """
+    plt = _pyplot()
+    from matplotlib.collections import PolyCollection
+    from matplotlib.colors import Normalize
+
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels), 6), layout="constrained")
+    for ax, (V, F, values, title, scale) in zip(np.atleast_1d(axes), panels):
+        X = np.asarray(V, dtype=np.float64) @ view.T
+        N = np.cross(X[F[:, 1]] - X[F[:, 0]], X[F[:, 2]] - X[F[:, 0]])
+        facing = np.abs(N[:, 2]) / np.maximum(np.linalg.norm(N, axis=1), 1e-300)
+        order = np.argsort(X[F].mean(axis=1)[:, 2], kind="stable")
+        scale = dict(scale)
+        cmap, label = plt.get_cmap(scale.pop("cmap")), scale.pop("label")
+        norm = Normalize(**scale)
+        colours = cmap(norm(np.asarray(values)[order]))
+        colours[:, :3] *= (0.35 + 0.65 * facing[order])[:, None]
+        lw = 0.15 if len(F) <= 30000 else 0.0
+        ax.add_collection(
+            PolyCollection(X[F[order], :2], facecolors=colours, edgecolors=(0, 0, 0, 0.35), linewidths=lw)
+        )
+        ax.set_xlim(X[:, 0].min(), X[:, 0].max())
+        ax.set_ylim(X[:, 1].min(), X[:, 1].max())
+        ax.set_aspect("equal")
+        ax.set_axis_off()
+        ax.set_title(f"{title} ({len(F):,} faces)")
+        fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax, shrink=0.6, label=label)
+    try:
+        _save(fig, path)
+    finally:
+        plt.close(fig)
+
+
+def face_distances(V, F, V0, F0):
+    """Distance from each face of (V, F) to the surface (V0, F0): the largest over its
+    centroid and the midpoints of its edges, (m,)."""
+    from ..geometry.distance import point_mesh_distance
+    from ..mesh.topology import edges
+
+    E = edges(F)
+    points = np.concatenate([V[F].mean(axis=1), (V[E[:, 0]] + V[E[:, 1]]) / 2])
+    d = point_mesh_distance(points, V0, F0)[0]
+    # each face's three edges, by their rows in E
+    key = np.sort(np.stack([F, np.roll(F, -1, axis=1)], axis=2), axis=2)
+    row = np.searchsorted(E[:, 0] * len(V) + E[:, 1], key[..., 0] * len(V) + key[..., 1])
+    return np.maximum(d[: len(F)], d[len(F) + row].max(axis=1))
+
+
 def _write_text(path, text):
     with atomic_output(path) as tmp:
         Path(tmp).write_text(text)
@@ -147,7 +232,9 @@ def write_remesh_report(folder, name, original, result, quality, times):
     """Write the figures of a remeshing run and a ``report.html`` that shows them with
     the numbers.
 
-    Files: ``radius_ratio.png`` (histograms before and after), ``disk_meshes.png`` (base,
+    Files: ``surfaces.png`` (the input and the output coloured by radius ratio and the
+    output by its distance to the input, :func:`plot_surfaces`), ``radius_ratio.png``
+    (histograms before and after), ``disk_meshes.png`` (base,
     subdivided and adaptive disk meshes), ``teichmuller_mu.png`` (|mu| of the
     Teichmueller map, when there is one), ``summary.json`` and ``report.html``.
 
@@ -169,7 +256,22 @@ def write_remesh_report(folder, name, original, result, quality, times):
     folder = Path(folder)
     folder.mkdir(exist_ok=True)
     V0, F0 = original
-    plot_radius_ratio(folder / "radius_ratio.png", radius_ratio(V0, F0), radius_ratio(result.V, result.F))
+    q0, q = radius_ratio(V0, F0), radius_ratio(result.V, result.F)
+    diagonal = float(np.linalg.norm(V0.max(axis=0) - V0.min(axis=0)))
+    distance = 100 * face_distances(result.V, result.F, V0, F0) / diagonal
+    ratio = {"vmin": 0.0, "vmax": 1.0, "cmap": "viridis", "label": "radius ratio 2 r_in / R_circ"}
+    plot_surfaces(
+        folder / "surfaces.png",
+        [
+            (V0, F0, q0, "input", ratio),
+            (result.V, result.F, q, "remeshed", ratio),
+            (result.V, result.F, distance, "remeshed: distance to the input",
+             {"vmin": 0.0, "vmax": max(float(distance.max()), 1e-12), "cmap": "magma",
+              "label": "% of the bounding-box diagonal"}),
+        ],
+        surface_view(V0, F0),
+    )
+    plot_radius_ratio(folder / "radius_ratio.png", q0, q)
     base_uv, base_F = result.disk_levels[0]
     sub_uv, sub_F = result.disk_levels[-1]
     plot_disk_levels(
@@ -177,7 +279,11 @@ def write_remesh_report(folder, name, original, result, quality, times):
         [(base_uv, base_F), (sub_uv, sub_F), (result.uv, sub_F)],
         ["base mesh", "subdivided", "adaptive (final)"],
     )
-    figures = [("radius_ratio.png", "Radius ratio before and after"), ("disk_meshes.png", "Meshes of the disk")]
+    figures = [
+        ("surfaces.png", "The surfaces: radius ratio before and after, and how far the output lies from the input"),
+        ("radius_ratio.png", "Radius ratio before and after"),
+        ("disk_meshes.png", "Meshes of the disk"),
+    ]
     if result.mu is not None:
         plot_disk_map(folder / "teichmuller_mu.png", result.uv, sub_F, result.mu, title="Teichmueller map")
         figures.append(("teichmuller_mu.png", "|mu| of the Teichmueller map"))
