@@ -268,6 +268,24 @@ def test_remesh_cli_errors(tmp_path, capsys):
     )
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", "2"]) == 1
     assert capsys.readouterr().err.strip() == "qcremesh: error: --faces must be at least 4"
+    triangle = tmp_path / "one.obj"
+    triangle.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    assert main(["remesh", str(triangle), "-o", str(out)]) == 1
+    assert capsys.readouterr().err.strip() == (
+        f"qcremesh: error: {triangle} has 1 face, and a remesh needs at least 4: give --faces"
+    )
+    triangle.unlink()
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--seed", "-1"]) == 1
+    assert capsys.readouterr().err.strip() == "qcremesh: error: --seed must be >= 0"
+    # a face count no machine has the memory for is refused before the work
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", str(10**13)]) == 1
+    assert re.fullmatch(
+        r"qcremesh: error: --faces asks for 10,000,000,000,000 faces, whose remesh would need about [\d,]+ GiB of "
+        r"memory \(about 0\.9 KiB per face\), more than this machine's \d+ GiB",
+        capsys.readouterr().err.strip(),
+    )
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--edge-length", "1e-9"]) == 1
+    assert capsys.readouterr().err.startswith("qcremesh: error: --edge-length asks for ")
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--edge-length", "0"]) == 1
     assert capsys.readouterr().err.strip() == "qcremesh: error: --edge-length must be positive"
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--edge-length", "1"]) == 1

@@ -458,6 +458,13 @@ def test_edge_length_asks_for_the_equilateral_triangles_of_that_side(fran):
         remesh(V, F, 1000, edge_length=length)
 
 
+def test_seed_must_be_a_non_negative_integer(fran):
+    V, F, _ = fran
+    for bad in (-1, 1.5, True, "0"):
+        with pytest.raises(ValueError, match=f"^seed must be a non-negative integer, got {bad!r}$"):
+            remesh(V, F, 1000, seed=bad)
+
+
 def test_faces_listed_twice_are_kept_once(fran):
     V, F, _ = fran
     twice = np.r_[F, F[[10, 20, 20]], F[[30], ::-1]]  # one face three times, one turned

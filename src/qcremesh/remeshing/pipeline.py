@@ -598,6 +598,8 @@ def remesh(
         raise ValueError("levels must be >= 0")
     if retries < 0:
         raise ValueError("retries must be >= 0")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
     V, F = as_mesh_arrays(V, F)
     if V.ndim != 2 or V.shape[1] not in (2, 3):
         raise ValueError(f"V must be (n, 3) or (n, 2), got shape {V.shape}")
