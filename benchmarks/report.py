@@ -232,6 +232,7 @@ REMESH_HEADER = [
     "min angle",
     "valence 6",
     "Hausdorff %",
+    "Hausdorff / mean edge",
     "mean dist %",
     "boundary Hausdorff %",
     "manifold",
@@ -253,6 +254,7 @@ def _remesh_cells(r):
         f"{q['min_angle_deg']:.1f}",
         _fixed(q["valence6_fraction"], 3),
         _pct(q["hausdorff"]),
+        _fixed(q["hausdorff_edges"], 2),
         _pct(q["mean_distance"]),
         _pct(q["boundary_hausdorff"]),
         "yes" if q["manifold"] else "no",
@@ -269,7 +271,8 @@ def _remesh_section(results):
         "Every output measured by `qcremesh.geometry.quality.mesh_quality`: radius ratio q = 2 "
         "r_in / R_circ per face, the smallest angle (degrees), the fraction of interior vertices "
         "of valence 6, Hausdorff and mean distance to the input in % of its bounding-box "
-        "diagonal, the Hausdorff distance between the boundaries (n/a when only one of the two "
+        "diagonal (and the Hausdorff distance in mean edge lengths of the output, which depends "
+        "less on the face count), the Hausdorff distance between the boundaries (n/a when only one of the two "
         "meshes has a boundary), manifoldness and boundary loops of the output, and its faces that "
         "meet another where the connectivity does not join them (self-intersections, those of the "
         "input beside them: a remesh that follows a surface through itself does too). Tools that take "

@@ -321,6 +321,17 @@ def test_quality_cli_json(capsys):
     assert "manifold yes, self-intersecting faces 406 (the reference: 406)\n" in capsys.readouterr().out
 
 
+def test_quality_cli_against_a_reference_with_a_boundary_where_the_mesh_has_none(tmp_path, capsys):
+    """A closed mesh measured against a disk: no boundary distance to tell (it was a
+    TypeError on None)."""
+    path = tmp_path / "sphere.obj"
+    write_mesh(path, *sphere_mesh())
+    assert main(["quality", str(path), "--reference", str(DATA / "fran_cut.ply")]) == 0
+    line = capsys.readouterr().out.strip().splitlines()[-1].strip()
+    assert line.startswith("distance to the reference (of its bounding-box diagonal): Hausdorff ")
+    assert line.endswith(" mean edge lengths), mean 392.0933 %, no boundary Hausdorff (only one of the two has a boundary)")
+
+
 def test_remesh_cli_warns_of_a_corner_too_sharp_for_good_triangles(tmp_path, capsys):
     """A flat triangle with an 8 degree corner: kept as a vertex, it bounds the radius
     ratio of the triangles there (0.26 at best, one isosceles triangle), which the warning

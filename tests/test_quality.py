@@ -101,6 +101,9 @@ def test_mesh_quality_of_a_grid_and_against_a_reference():
     assert r["valence6_fraction"] == 1.0
     assert (r["boundary_loops"], r["euler_characteristic"], r["manifold"]) == (1, 1, True)
     assert r["self_intersecting_faces"] == 0
+    # 220 edges along the axes of 0.1, 100 diagonals of 0.1 sqrt(2)
+    edge = (220 * 0.1 + 100 * 0.1 * np.sqrt(2)) / 320
+    assert r["mean_edge_length"] == pytest.approx(edge)
     assert "hausdorff" not in r and "reference_self_intersecting_faces" not in r
 
     diag = np.sqrt(2)
@@ -109,6 +112,7 @@ def test_mesh_quality_of_a_grid_and_against_a_reference():
     assert r["hausdorff"] == pytest.approx(np.hypot(0.03, 0.01) / diag)
     assert 0.01 / diag < r["mean_distance"] < r["hausdorff"]
     assert r["boundary_hausdorff"] == pytest.approx(np.hypot(0.03, 0.01) / diag)
+    assert r["hausdorff_edges"] == pytest.approx(np.hypot(0.03, 0.01) / edge)
     # the grid with a small triangle standing up through one of its faces
     stand = np.array([[0.43, 0.425, -0.1], [0.47, 0.425, -0.1], [0.45, 0.415, 0.1]])
     crossed = (np.vstack([V, stand]), np.vstack([F, [121, 122, 123]]))
