@@ -114,7 +114,7 @@ def _warn_departure(quality):
     """Warn about an output that leaves the input surface by more than DEPARTURE_EDGES
     of its mean edge length, or in which more faces pass through others than in the
     input (``quality`` measured against the input)."""
-    if quality["hausdorff_edges"] > DEPARTURE_EDGES:
+    if (quality["hausdorff_edges"] or 0.0) > DEPARTURE_EDGES:
         print(
             f"qcremesh: warning: the output lies up to {100 * quality['hausdorff']:.2f} % of the diagonal from the "
             f"input, {quality['hausdorff_edges']:.1f} times its mean edge length: it does not follow the surface "
@@ -297,7 +297,8 @@ def _quality_lines(q):
         boundary = q["boundary_hausdorff"]
         lines.append(
             f"distance to the reference (of its bounding-box diagonal): Hausdorff {100 * q['hausdorff']:.3f} % "
-            f"({q['hausdorff_edges']:.2f} mean edge lengths), mean {100 * q['mean_distance']:.4f} %, "
+            + (f"({q['hausdorff_edges']:.2f} mean edge lengths)" if q["hausdorff_edges"] is not None else "")
+            + f", mean {100 * q['mean_distance']:.4f} %, "
             + (f"boundary Hausdorff {100 * boundary:.3f} %" if boundary is not None
                else "no boundary Hausdorff (only one of the two has a boundary)")
         )

@@ -203,7 +203,7 @@ def mesh_quality(V, F, reference=None):
         resolution as much (a mesh of edge h that follows a smooth surface stays within
         about h^2 times its curvature; qcremesh's outputs in the committed benchmark
         0.24-0.69 but face-YH's at its face count, pymeshlab's 0.15-0.48, remesh_botsch's
-        0.18-1.86).
+        0.18-1.86); None where every edge has length 0.
     """
     V, F = as_mesh_arrays(V, F)
     q = radius_ratio(V, F)
@@ -246,7 +246,7 @@ def mesh_quality(V, F, reference=None):
             mean_distance=mean / diag,
             boundary_hausdorff=boundary,
             reference_self_intersecting_faces=_self_intersecting_faces(V0, F0),
-            hausdorff_edges=hausdorff / edge,
+            hausdorff_edges=hausdorff / edge if edge > 0 else None,
         )
     return report
 
