@@ -63,11 +63,9 @@ FACE_COUNT_SLACK = 0.05
 
 # `remesh` warns where the Hausdorff distance to the input exceeds this many mean output
 # edge lengths (mesh_quality's hausdorff_edges). In the committed benchmark (every
-# remesher, both face counts) it is 0.24-0.69 for qcremesh's outputs but face-YH.off's at
-# its face count (1.24: its thin flaps), 0.15-0.48 for pymeshlab's and 0.18-1.86 for
-# remesh_botsch's (human_brain, human_face, featuretype.STL), measured against the edge of
-# equilateral faces of the output's count and area, which the mean edge length is within
-# a few % of.
+# remesher, both face counts) it is 0.24-0.70 for qcremesh's outputs but face-YH.off's at
+# its face count (1.25: its thin flaps), 0.15-0.47 for pymeshlab's and 0.18-1.84 for
+# remesh_botsch's (human_brain, human_face, featuretype.STL).
 DEPARTURE_EDGES = 1.0
 
 

@@ -202,8 +202,8 @@ def mesh_quality(V, F, reference=None):
         distance in mean edge lengths of the mesh, which does not depend on its
         resolution as much (a mesh of edge h that follows a smooth surface stays within
         about h^2 times its curvature; qcremesh's outputs in the committed benchmark
-        0.24-0.69 but face-YH's at its face count, pymeshlab's 0.15-0.48, remesh_botsch's
-        0.18-1.86); None where every edge has length 0.
+        0.24-0.70 but face-YH's at its face count, 1.25, pymeshlab's 0.15-0.47,
+        remesh_botsch's 0.18-1.84); None where every edge has length 0.
     """
     V, F = as_mesh_arrays(V, F)
     q = radius_ratio(V, F)
