@@ -5,7 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import DATA, grid_disk
+from conftest import DATA, grid_disk, strip_disk
 from qcremesh.cli.batch import output_paths, remesh_file, remesh_files
 from qcremesh.cli.main import main
 from qcremesh.mesh.io import read_mesh, write_mesh
@@ -45,6 +45,17 @@ def test_batch_cli_remeshes_each_file_as_remesh_does(tmp_path, inputs, capsys):
         assert record["output"] == str(out / path.name) and record["faces_in"] == 2 * faces
         assert abs(record["faces"] - faces) <= 0.05 * faces and record["q_min"] > 0.3
         assert f"{path} -> {out / path.name}: {record['faces']:,} faces, mean q {record['q_mean']:.4f}" in captured.out
+
+
+def test_batch_cli_warns_of_an_output_that_leaves_the_surface(tmp_path, capsys):
+    """A strip 16 long remeshed whole (its crowded ends lost, 1.7 mean edge lengths off)
+    gets the remesh CLI's warning on its line."""
+    path = tmp_path / "strip.obj"
+    write_mesh(path, *strip_disk(16))
+    assert main(["batch", str(path), "-o", str(tmp_path / "out"), "--faces", "1000", "--whole"]) == 0
+    assert capsys.readouterr().err.strip() == (
+        f"[1/1] {path}: warning: the output lies up to 1.7 times its mean edge length from the input"
+    )
 
 
 def test_batch_cli_errors_before_the_work(tmp_path, inputs, capsys):

@@ -540,6 +540,12 @@ def _batch(args, out):
             file=out,
             flush=True,
         )
+        if (record["hausdorff_edges"] or 0.0) > DEPARTURE_EDGES:
+            print(
+                f"{head}: warning: the output lies up to {record['hausdorff_edges']:.1f} times its mean edge length "
+                "from the input",
+                file=sys.stderr,
+            )
     failed = [r["input"] for r in records if "error" in r]
     print(
         f"{total - len(failed)} of {total} files remeshed in {time.perf_counter() - start:.1f} s"
