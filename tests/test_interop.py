@@ -3,9 +3,10 @@ import pytest
 
 from conftest import DATA, grid_disk, holed_disk
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
+from qcremesh.interop.meshio import from_meshio, remesh_meshio, to_meshio
 from qcremesh.interop.pyvista import from_pyvista, remesh_pyvista, to_pyvista
 from qcremesh.interop.trimesh import from_trimesh, remesh_trimesh, to_trimesh
-from qcremesh.mesh.io import read_mesh
+from qcremesh.mesh.io import MeshReadError, read_mesh
 from qcremesh.mesh.topology import boundary_loops
 from qcremesh.remeshing.pipeline import remesh
 
@@ -172,3 +173,49 @@ def test_remesh_trimesh_welds_texture_seams():
     np.testing.assert_allclose(out.vertex_attributes["x"], out.vertices[:, 0], atol=1e-12)  # agrees across: kept
     kept = remesh_trimesh(mesh, 600, weld=False)
     assert len(boundary_loops(kept.faces)) == 2 and isinstance(kept.visual, trimesh.visual.TextureVisuals)
+
+
+def test_meshio_round_trip():
+    V, F = bumpy_grid()
+    V2, F2, data = from_meshio(to_meshio(V, F, {"height": V[:, 2]}))
+    np.testing.assert_array_equal(V2, V)
+    np.testing.assert_array_equal(F2, F)
+    np.testing.assert_array_equal(data["height"], V[:, 2])
+
+
+def test_remesh_meshio_is_remesh_with_the_point_data_carried(fran):
+    """The output is remesh's with the point data interpolated (colours as bytes stay
+    bytes), the run's numbers in info; quads count as two triangles each."""
+    import meshio
+
+    V, F, data = fran
+    colours = (255 * (V - V.min(0)) / np.ptp(V, axis=0)).round().astype(np.uint8)
+    mesh = meshio.Mesh(V, [("triangle", F)], point_data={"uv": data["uv"], "rgb": colours})
+    out = remesh_meshio(mesh, 2000, seed=2)
+    direct = remesh(V, F, 2000, data={"uv": data["uv"], "rgb": colours}, seed=2)
+    assert isinstance(out, meshio.Mesh) and [c.type for c in out.cells] == ["triangle"]
+    np.testing.assert_array_equal(out.points, direct.V)
+    np.testing.assert_array_equal(out.cells[0].data, direct.F)
+    np.testing.assert_array_equal(out.point_data["uv"], direct.data["uv"])
+    assert out.point_data["rgb"].dtype == np.uint8
+    np.testing.assert_array_equal(out.point_data["rgb"], direct.data["rgb"])
+    assert out.info["qcremesh"]["levels"] == direct.stats["levels"]
+    g = np.arange(16).reshape(4, 4)
+    quads = np.column_stack([g[:-1, :-1].ravel(), g[:-1, 1:].ravel(), g[1:, 1:].ravel(), g[1:, :-1].ravel()])
+    plane = np.column_stack([np.stack(np.meshgrid(np.arange(4.0), np.arange(4.0)), -1).reshape(-1, 2), np.zeros(16)])
+    V2, F2, _ = from_meshio(meshio.Mesh(plane, [("quad", quads)]))
+    assert len(F2) == 18 and abs(len(remesh_meshio(meshio.Mesh(plane, [("quad", quads)])).cells[0].data) - 18) <= 2
+
+
+def test_meshio_refuses_what_is_not_a_surface():
+    import meshio
+
+    with pytest.raises(TypeError, match="^expected a meshio.Mesh, got tuple$"):
+        from_meshio((np.eye(3), [[0, 1, 2]]))
+    tetra = meshio.Mesh(np.r_[np.eye(3), [[0, 0, 0]]], [("tetra", [[0, 1, 2, 3]])])
+    with pytest.raises(MeshReadError, match=r"^meshio.Mesh: not a triangle mesh \(has tetra cells\)$"):
+        remesh_meshio(tetra)
+    with pytest.raises(MeshReadError, match="^meshio.Mesh: no triangles, quads or polygons$"):
+        from_meshio(meshio.Mesh(np.eye(3), [("line", [[0, 1]])]))
+    with pytest.raises(TypeError, match="^remesh_meshio carries the mesh's own point data"):
+        remesh_meshio(to_meshio(*bumpy_grid()), data={})

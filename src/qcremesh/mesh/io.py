@@ -30,7 +30,7 @@ import numpy as np
 
 from .polydata import arrays_to_polydata, polydata_to_arrays
 
-__all__ = ["MeshReadError", "read_mesh", "write_mesh", "check_writable", "atomic_output"]
+__all__ = ["MeshReadError", "read_mesh", "write_mesh", "check_writable", "atomic_output", "meshio_to_arrays"]
 
 
 class MeshReadError(ValueError):
@@ -149,23 +149,53 @@ def _read_meshio(path):
         printed = [line.strip() for line in said.getvalue().splitlines() if line.strip()]
         detail = printed[0] if isinstance(exc, SystemExit) and printed else exc
         raise MeshReadError(f"{path}: cannot read ({detail})") from exc
-    other = {c.type for c in m.cells} - {"triangle", "quad", "polygon", "vertex", "line"}
-    if other:
-        raise MeshReadError(f"{path}: not a triangle mesh (has {', '.join(sorted(other))} cells)")
-    blocks = [np.asarray(c.data, dtype=np.int64) for c in m.cells if c.type in ("triangle", "quad", "polygon")]
-    if not blocks:
-        raise MeshReadError(f"{path}: no triangles in the file")
-    tri = [_polygons_to_triangles(path, m.points, b.ravel(), np.full(len(b), b.shape[1])) for b in blocks]
-    data = {}
-    for name, arr in m.point_data.items():
-        arr = np.asarray(arr)
-        if len(arr) == len(m.points):
-            data[name] = arr
+    V, F, data = meshio_to_arrays(m, path)
     if "texture_u" in data and "texture_v" in data:
         data["uv"] = np.column_stack([data.pop("texture_u"), data.pop("texture_v")])
     if "obj:vt" in data:
         data["uv"] = np.asarray(data.pop("obj:vt"))[:, :2]
-    return m.points, np.concatenate(tri), data
+    return V, F, data
+
+
+def meshio_to_arrays(mesh, name="the mesh"):
+    """The surface of a :class:`meshio.Mesh` as arrays: its points, the triangles of its
+    triangle, quad and polygon cells (quads split along their shorter diagonal, larger
+    convex polygons into the fan from their first corner) and its point data of one row
+    per point, by name (as they are: :func:`read_mesh` renames texture coordinates).
+
+    Parameters
+    ----------
+    mesh : meshio.Mesh
+    name : str
+        What to call it in errors (the file it was read from).
+
+    Returns
+    -------
+    V : (n, d) array
+        ``mesh.points`` as they are.
+    F : (m, 3) int64
+    data : dict of str to ndarray
+
+    Raises
+    ------
+    MeshReadError
+        Cells other than triangles, quads, polygons, vertices and lines (a volume
+        mesh), none of the first three, polygons that are not convex, indices out of
+        range.
+    """
+    other = {c.type for c in mesh.cells} - {"triangle", "quad", "polygon", "vertex", "line"}
+    if other:
+        raise MeshReadError(f"{name}: not a triangle mesh (has {', '.join(sorted(other))} cells)")
+    blocks = [np.asarray(c.data, dtype=np.int64) for c in mesh.cells if c.type in ("triangle", "quad", "polygon")]
+    if not blocks:
+        raise MeshReadError(f"{name}: no triangles, quads or polygons")
+    tri = [_polygons_to_triangles(name, mesh.points, b.ravel(), np.full(len(b), b.shape[1])) for b in blocks]
+    data = {}
+    for key, arr in mesh.point_data.items():
+        arr = np.asarray(arr)
+        if len(arr) == len(mesh.points):
+            data[key] = arr
+    return mesh.points, np.concatenate(tri), data
 
 
 def _read_obj(path):
