@@ -116,7 +116,7 @@ def _warn_departure(quality):
         print(
             f"qcremesh: warning: the output lies up to {100 * quality['hausdorff']:.2f} % of the diagonal from the "
             f"input, {quality['hausdorff_edges']:.1f} times its mean edge length: it does not follow the surface "
-            "there (a part thinner than an edge, or a disk map too far from conformal)",
+            "there (a pocket or a part narrower than an edge, or a disk map far from conformal)",
             file=sys.stderr,
         )
     crossing, before = quality["self_intersecting_faces"], quality["reference_self_intersecting_faces"]
