@@ -58,6 +58,27 @@ def test_batch_cli_warns_of_an_output_that_leaves_the_surface(tmp_path, capsys):
     )
 
 
+def test_batch_cli_writes_a_report_per_file(tmp_path, inputs, capsys):
+    """--report DIR: each file's report in DIR/<output stem>, named in its record; two
+    outputs of one stem are refused before the work."""
+    out, report = tmp_path / "out", tmp_path / "reports"
+    args = ["batch", str(inputs[0]), str(inputs[2]), "-o", str(out), "--faces", "300", "--report", str(report)]
+    assert main(args + ["--json", str(tmp_path / "r.json")]) == 0
+    for stem in ("fran", "grid"):
+        assert {"surfaces.png", "radius_ratio.png", "report.html"} <= {p.name for p in (report / stem).iterdir()}
+    records = json.loads((tmp_path / "r.json").read_text())
+    assert sorted(r["report"] for r in records) == [str(report / s / "report.html") for s in ("fran", "grid")]
+    capsys.readouterr()
+    twin = inputs[2].with_suffix(".ply")
+    write_mesh(twin, *read_mesh(inputs[2]))
+    assert main(["batch", str(inputs[2]), str(twin), "-o", str(tmp_path / "o2"), "--report", str(tmp_path / "r2")]) == 1
+    assert capsys.readouterr().err.strip() == (
+        f"qcremesh: error: the reports of {tmp_path / 'o2' / 'grid.obj'} and {tmp_path / 'o2' / 'grid.ply'} would "
+        f"both be written to {tmp_path / 'r2' / 'grid'}"
+    )
+    assert not (tmp_path / "o2").exists() and not (tmp_path / "r2").exists()
+
+
 def test_batch_cli_errors_before_the_work(tmp_path, inputs, capsys):
     out = tmp_path / "out"
     (tmp_path / "other").mkdir()

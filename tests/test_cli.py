@@ -121,6 +121,19 @@ def test_remesh_cli_with_report(tmp_path, capsys):
     assert 'src="surfaces.png"' in page and 'src="radius_ratio.png"' in page and "q_mean" in page
 
 
+def test_remesh_cli_report_without_matplotlib_is_refused_before_the_work(tmp_path, capsys, monkeypatch):
+    import qcremesh.cli.report as report
+
+    def missing():
+        raise ImportError("plots need matplotlib: pip install 'qcremesh[plot]'")
+
+    monkeypatch.setattr(report, "_pyplot", missing)
+    out = tmp_path / "re.ply"
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--report", str(tmp_path / "r")]) == 1
+    assert capsys.readouterr().err.strip() == "qcremesh: error: plots need matplotlib: pip install 'qcremesh[plot]'"
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_remesh_cli_says_when_landmarks_were_drawn_again(tmp_path, capsys):
     assert main(["remesh", str(shared("camel_b.obj")), "-o", str(tmp_path / "c.ply"), "--faces", "1788"]) == 0
     text = capsys.readouterr().out

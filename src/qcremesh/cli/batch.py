@@ -24,10 +24,12 @@ from ..mesh.io import MeshReadError, read_mesh, write_mesh
 from ..mesh.validate import MeshError
 from ..remeshing.pipeline import remesh
 
-__all__ = ["remesh_file", "remesh_files", "output_paths"]
+__all__ = ["remesh_file", "remesh_files", "output_paths", "report_folders"]
 
 
-def remesh_file(input, output, *, faces=None, faces_ratio=None, edge_length=None, sizing=None, **options):
+def remesh_file(
+    input, output, *, faces=None, faces_ratio=None, edge_length=None, sizing=None, report=None, **options
+):
     """Read a mesh, remesh it, measure the result against the input and write it
     (atomically: an error leaves no file).
 
@@ -47,6 +49,10 @@ def remesh_file(input, output, *, faces=None, faces_ratio=None, edge_length=None
     sizing : "curvature" or str, optional
         ``"curvature"``, or the name of a per-vertex array of the input holding the
         relative edge lengths wanted.
+    report : str or os.PathLike, optional
+        A folder (created; its parent must exist) to write the figures and
+        ``report.html`` of :func:`qcremesh.cli.report.write_remesh_report` into
+        (matplotlib needed).
     **options
         Further keyword arguments of :func:`qcremesh.remesh` (``seed``, ``levels``,
         ``method``, ``relax``, ``creases``, ``cut_crowded``).
@@ -77,10 +83,17 @@ def remesh_file(input, output, *, faces=None, faces_ratio=None, edge_length=None
             raise ValueError(f"no per-vertex array {sizing!r} to take the sizing from (the mesh has: {arrays})")
         sizing = check_sizing(np.asarray(data[sizing], dtype=np.float64).reshape(len(V), -1)[:, 0], len(V))
     result = remesh(V, F, faces, edge_length=edge_length, sizing=sizing, data=data, **options)
+    t = time.perf_counter()
     quality = mesh_quality(result.V, result.F, reference=(V, F))
+    times = dict(result.times, measure=time.perf_counter() - t)
     out_data = dict(result.data)
     write_mesh(output, result.V, result.F, uv=out_data.pop("uv", None), data=out_data)
     record = {"input": str(input), "output": str(output), "faces_in": len(F)}
+    if report is not None:
+        from .report import write_remesh_report
+
+        write_remesh_report(report, input, (V, F), result, quality, times)
+        record["report"] = str(Path(report) / "report.html")
     return dict(record, seconds=time.perf_counter() - start, **quality)
 
 
@@ -92,7 +105,7 @@ def _attempt(input, output, options):
         return {"input": str(input), "output": None, "error": str(exc)}
 
 
-def remesh_files(pairs, *, jobs=1, **options):
+def remesh_files(pairs, *, jobs=1, report=None, **options):
     """:func:`remesh_file` of each (input, output) pair, in ``jobs`` processes.
 
     Parameters
@@ -102,6 +115,9 @@ def remesh_files(pairs, *, jobs=1, **options):
         Processes to run at once; 1 runs the files one after the other in this process.
         Each remesh uses every core for its larger steps, so more processes than cores
         gain nothing; several help where the files are small.
+    report : str or os.PathLike, optional
+        An existing folder: each file's report goes into a folder in it named after its
+        output (:func:`report_folders`).
     **options
         Keyword arguments of :func:`remesh_file`.
 
@@ -113,14 +129,17 @@ def remesh_files(pairs, *, jobs=1, **options):
     """
     if jobs < 1:
         raise ValueError("jobs must be at least 1")
+    pairs = list(pairs)
+    folders = report_folders([output for _, output in pairs], report) if report is not None else [None] * len(pairs)
+    tasks = [(input, output, dict(options, report=folder)) for (input, output), folder in zip(pairs, folders)]
     if jobs == 1:
-        for input, output in pairs:
-            yield _attempt(input, output, options)
+        for task in tasks:
+            yield _attempt(*task)
         return
     # spawned, not forked: a fork copies the parent's thread pools in whatever state
     context = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
-        running = [pool.submit(_attempt, input, output, options) for input, output in pairs]
+        running = [pool.submit(_attempt, *task) for task in tasks]
         try:
             for done in as_completed(running):
                 yield done.result()
@@ -146,3 +165,20 @@ def output_paths(inputs, folder, suffix=None):
             raise ValueError(f"{seen[output]} and {input} would both be written to {output}")
         seen[output] = input
     return outputs
+
+
+def report_folders(outputs, folder):
+    """The report folder of each output: ``folder / stem``.
+
+    Raises
+    ------
+    ValueError
+        Two outputs have the same stem (x.ply and x.obj).
+    """
+    folders = [Path(folder) / Path(output).stem for output in outputs]
+    seen = {}
+    for output, report in zip(outputs, folders):
+        if report in seen:
+            raise ValueError(f"the reports of {seen[report]} and {output} would both be written to {report}")
+        seen[report] = output
+    return folders

@@ -12,7 +12,7 @@
     extension. ``--sizing curvature`` grades the edges by the surface's bending,
     ``--sizing NAME`` by a per-vertex array of the input (relative edge lengths).
 
-``qcremesh batch INPUT... -o OUTDIR [--format EXT] [--faces N | --faces-ratio R | --edge-length L] [--jobs N] [--json FILE] [remesh's options]``
+``qcremesh batch INPUT... -o OUTDIR [--format EXT] [--faces N | --faces-ratio R | --edge-length L] [--jobs N] [--json FILE] [--report DIR] [remesh's options]``
     ``remesh`` of many files into a folder, in parallel processes, with a line per file
     (faces, radius ratio, Hausdorff distance, time) and a summary; a file that fails is
     reported and the others go on (exit status 1 if any failed).
@@ -181,6 +181,9 @@ def _parser():
     _add_remesh_options(b)
     b.add_argument("--jobs", type=int, default=1, metavar="N", help="files remeshed at once, each in a process (default 1)")
     b.add_argument("--json", metavar="FILE", help="write the records of every file (quality, time, errors) as JSON")
+    b.add_argument(
+        "--report", metavar="DIR", help="write each file's figures and report.html into DIR/NAME (NAME: its output's)"
+    )
 
     m = sub.add_parser("quality", help="triangle quality of a mesh, and its distance to a reference")
     m.add_argument("mesh")
@@ -257,6 +260,17 @@ def _check_memory(faces, option):
         )
 
 
+def _check_report_folder(folder):
+    """Before the work: a report folder that is not a file, and matplotlib to draw it."""
+    if folder is None:
+        return
+    if Path(folder).exists() and not Path(folder).is_dir():
+        raise CommandError(f"{folder}: exists and is not a folder")
+    from .report import check_figure_path
+
+    check_figure_path(Path(folder) / "surfaces.png")
+
+
 def _check_output_folder(*targets):
     for target in filter(None, targets):
         parent = Path(target).parent
@@ -315,8 +329,7 @@ def _remesh(args, out):
         check_writable(args.output)
     except ValueError as exc:
         raise CommandError(f"{args.output}: {exc}") from exc
-    if args.report and Path(args.report).exists() and not Path(args.report).is_dir():
-        raise CommandError(f"{args.report}: exists and is not a folder")
+    _check_report_folder(args.report)
     _check_remesh_options(args)
     t0 = time.perf_counter()
     V, F, data = read_mesh(args.input, return_data=True)
@@ -493,7 +506,7 @@ def _remesh(args, out):
 def _batch(args, out):
     import json
 
-    from .batch import output_paths, remesh_files
+    from .batch import output_paths, remesh_files, report_folders
 
     _check_remesh_options(args)
     if args.faces_ratio is not None and not args.faces_ratio > 0:
@@ -507,9 +520,12 @@ def _batch(args, out):
     if folder.exists() and not folder.is_dir():
         raise CommandError(f"{folder}: exists and is not a folder")
     _check_output_folder(args.json)
+    _check_report_folder(args.report)
     suffix = "." + args.format.lstrip(".") if args.format else None
     try:
         outputs = output_paths(args.inputs, folder, suffix)
+        if args.report:
+            report_folders(outputs, args.report)
     except ValueError as exc:
         raise CommandError(str(exc)) from exc
     for output in outputs:
@@ -519,6 +535,8 @@ def _batch(args, out):
             hint = "" if suffix else " (give --format)"
             raise CommandError(f"{output}: {exc}{hint}") from exc
     folder.mkdir(parents=True, exist_ok=True)
+    if args.report:
+        Path(args.report).mkdir(parents=True, exist_ok=True)
     options = dict(
         faces=args.faces, faces_ratio=args.faces_ratio, edge_length=args.edge_length, levels=args.levels,
         method=args.method, seed=args.seed, relax=args.relax, sizing=args.sizing, cut_crowded=not args.whole,
@@ -527,7 +545,7 @@ def _batch(args, out):
     start = time.perf_counter()
     records = []
     total = len(args.inputs)
-    for record in remesh_files(list(zip(args.inputs, outputs)), jobs=args.jobs, **options):
+    for record in remesh_files(list(zip(args.inputs, outputs)), jobs=args.jobs, report=args.report, **options):
         records.append(record)
         head = f"[{len(records)}/{total}] {record['input']}"
         if "error" in record:
