@@ -159,11 +159,7 @@ def output_paths(inputs, folder, suffix=None):
     """
     folder = Path(folder)
     outputs = [folder / (Path(p).stem + (suffix if suffix is not None else Path(p).suffix)) for p in inputs]
-    seen = {}
-    for input, output in zip(inputs, outputs):
-        if output in seen:
-            raise ValueError(f"{seen[output]} and {input} would both be written to {output}")
-        seen[output] = input
+    _check_distinct(inputs, outputs)
     return outputs
 
 
@@ -176,9 +172,14 @@ def report_folders(outputs, folder):
         Two outputs have the same stem (x.ply and x.obj).
     """
     folders = [Path(folder) / Path(output).stem for output in outputs]
-    seen = {}
-    for output, report in zip(outputs, folders):
-        if report in seen:
-            raise ValueError(f"the reports of {seen[report]} and {output} would both be written to {report}")
-        seen[report] = output
+    _check_distinct(outputs, folders, "the reports of ")
     return folders
+
+
+def _check_distinct(sources, targets, label=""):
+    """Raise ValueError where two of ``sources`` have the same target."""
+    seen = {}
+    for source, target in zip(sources, targets):
+        if target in seen:
+            raise ValueError(f"{label}{seen[target]} and {source} would both be written to {target}")
+        seen[target] = source
