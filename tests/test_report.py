@@ -36,6 +36,11 @@ def test_face_distances_are_the_largest_over_centroid_and_edge_midpoints():
     np.testing.assert_array_equal(face_distances(V, F, V, F), 0.0)
     T = np.array([[0.2, 0.2, 0.0], [0.6, 0.2, 0.0], [0.2, 0.6, 0.4]])
     assert face_distances(T, np.array([[0, 1, 2]]), V, F)[0] == pytest.approx(0.2)
+    # one vertex of the sheet raised by 0.3: its faces 0.15 off (their edges to it), the others 0
+    raised = V.copy()
+    raised[40, 2] = 0.3
+    expected = np.where((F == 40).any(axis=1), 0.15, 0.0)
+    np.testing.assert_allclose(face_distances(raised, F, V, F), expected, atol=1e-12)
 
 
 def test_plot_surfaces_draws_each_panel(tmp_path):
