@@ -262,6 +262,20 @@ def test_remesh_cli_edge_length(tmp_path, capsys):
     assert "warning" not in capsys.readouterr().err
 
 
+def test_remesh_cli_teichmuller_iterations(tmp_path, capsys):
+    """5 QC iterations by default, which stop before the convergence test and say so;
+    more run the map to it."""
+    out = tmp_path / "t.ply"
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", "2000"]) == 0
+    assert re.search(r"Teichmueller map: k = [\d.]+ after 5 iterations \(not converged: --teichmuller-iterations for "
+                     r"more\), 0 folded faces", capsys.readouterr().out)
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", "2000",
+                 "--teichmuller-iterations", "100"]) == 0
+    assert re.search(r"Teichmueller map: k = [\d.]+ after \d+ iterations, 0 folded faces", capsys.readouterr().out)
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--teichmuller-iterations", "0"]) == 1
+    assert capsys.readouterr().err.strip() == "qcremesh: error: --teichmuller-iterations must be at least 1"
+
+
 def test_remesh_cli_is_deterministic(tmp_path):
     args = ["remesh", str(DATA / "fran_cut.ply"), "--faces", "1500", "--method", "subdivided", "--seed", "7"]
     assert main(args + ["-o", str(tmp_path / "a.obj")]) == 0

@@ -5,7 +5,7 @@
     ``v``, their disk coordinates as ``vt`` with the same index, and the input faces as
     ``f a/a b/b c/c``.
 
-``qcremesh remesh INPUT -o OUTPUT [--faces N | --edge-length L] [--levels L] [--method M] [--seed S] [--relax K] [--sizing S] [--report DIR]``
+``qcremesh remesh INPUT -o OUTPUT [--faces N | --edge-length L] [--levels L] [--method M] [--seed S] [--relax K] [--teichmuller-iterations N] [--sizing S] [--report DIR]``
     Quasi-conformal remeshing (Algorithm 2 and projection) of a disk, or of any manifold
     surface (with holes, closed, with handles: cut open, remeshed and welded; one piece
     or several); the output format follows the
@@ -204,6 +204,11 @@ def _add_remesh_options(parser):
         help="tangential relaxation sweeps on the surface (0: the paper's pipeline alone; default 40)",
     )
     parser.add_argument(
+        "--teichmuller-iterations", type=int, default=5, metavar="N",
+        help="most QC iterations of the Teichmueller map (default 5: after the relaxation more change nothing "
+        "measurable; 40 or so run it to its convergence test)",
+    )
+    parser.add_argument(
         "--sizing",
         metavar="curvature|NAME",
         help="grade the edge lengths: 'curvature' (shorter where the surface bends at their scale, longer where "
@@ -237,6 +242,8 @@ def _check_remesh_options(args):
         raise CommandError("--seed must be >= 0")
     if args.relax < 0:
         raise CommandError("--relax must be >= 0")
+    if args.teichmuller_iterations < 1:
+        raise CommandError("--teichmuller-iterations must be at least 1")
     if args.creases is not None and not 0 < args.creases < 180:
         raise CommandError("--creases must be between 0 and 180 degrees")
     if args.creases is not None and (args.method == "uniform" or args.relax == 0):
@@ -361,6 +368,7 @@ def _remesh(args, out):
     try:
         result = remesh(
             V, F, faces, levels=args.levels, method=args.method, seed=args.seed, relax=args.relax,
+            teichmuller_iterations=args.teichmuller_iterations,
             sizing=sizing, cut_crowded=not args.whole, creases=args.creases, data=data, progress=update,
         )
     except MeshError as exc:
@@ -483,7 +491,7 @@ def _remesh(args, out):
     if "teichmuller_k" in st:
         print(
             f"Teichmueller map: k = {st['teichmuller_k']:.4f} after {st['teichmuller_iterations']} iterations"
-            f"{'' if st['teichmuller_converged'] else ' (not converged)'}, "
+            f"{'' if st['teichmuller_converged'] else ' (not converged: --teichmuller-iterations for more)'}, "
             f"{st['teichmuller_folded_faces']} folded faces",
             file=out,
         )
@@ -539,7 +547,8 @@ def _batch(args, out):
         Path(args.report).mkdir(parents=True, exist_ok=True)
     options = dict(
         faces=args.faces, faces_ratio=args.faces_ratio, edge_length=args.edge_length, levels=args.levels,
-        method=args.method, seed=args.seed, relax=args.relax, sizing=args.sizing, cut_crowded=not args.whole,
+        method=args.method, seed=args.seed, relax=args.relax, teichmuller_iterations=args.teichmuller_iterations,
+        sizing=args.sizing, cut_crowded=not args.whole,
         creases=args.creases,
     )
     start = time.perf_counter()
