@@ -259,7 +259,10 @@ def test_remesh_cli_edge_length(tmp_path, capsys):
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--edge-length", "0.0088"]) == 0
     V, F = read_mesh(out)
     assert abs(len(F) - 1007) <= 50
-    assert "warning" not in capsys.readouterr().err
+    captured = capsys.readouterr()
+    assert "warning" not in captured.err
+    edge = float(re.search(r"mean edge length ([\d.e-]+)\n", captured.out).group(1))
+    assert edge == pytest.approx(0.0088, rel=0.03)
 
 
 def test_remesh_cli_teichmuller_iterations(tmp_path, capsys):

@@ -310,7 +310,8 @@ def _quality_lines(q):
         + (f" (the reference: {q['reference_self_intersecting_faces']})" if "reference_self_intersecting_faces" in q else ""),
         f"radius ratio 2 r_in / R_circ: mean {q['q_mean']:.4f}, min {q['q_min']:.4f}, "
         f"1st percentile {q['q_p01']:.4f}, q > 0.9: {100 * q['q_frac_above_0_9']:.1f} %",
-        f"minimum angle {q['min_angle_deg']:.2f} deg, mean minimum angle {q['mean_min_angle_deg']:.2f} deg",
+        f"minimum angle {q['min_angle_deg']:.2f} deg, mean minimum angle {q['mean_min_angle_deg']:.2f} deg, "
+        f"mean edge length {q['mean_edge_length']:.4g}",
     ]
     if "hausdorff" in q:
         boundary = q["boundary_hausdorff"]
