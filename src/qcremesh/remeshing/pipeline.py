@@ -410,7 +410,22 @@ def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, boundary_edge
 def faces_for_edge_length(V, F, faces, edge_length):
     """The number of equilateral triangles of side ``edge_length`` that cover the area A
     of the surface (V, F), round(4 A / (sqrt(3) edge_length^2)): :func:`remesh`'s face
-    count for an ``edge_length``, which does not go with ``faces`` (the count given)."""
+    count for an ``edge_length``.
+
+    Parameters
+    ----------
+    V : (n, 3) float
+    F : (m, 3) int
+    faces : int or None
+        The count given as well, which does not go with an edge length (ValueError).
+    edge_length : float
+        Positive and finite, in the units of ``V``.
+
+    Returns
+    -------
+    int
+        At least 4 (ValueError where the area takes fewer).
+    """
     if faces is not None:
         raise ValueError("give faces or edge_length, not both")
     length = float(edge_length)
