@@ -14,6 +14,7 @@ from qcremesh.mesh.cut import (
     cut_along_edges,
     cut_to_disk,
     edge_paths,
+    path_edges,
     paths_across,
     paths_to_boundary,
     shortest_edge_path,
@@ -50,21 +51,17 @@ def test_shortest_edge_path_follows_edges_and_is_shortest():
     assert np.isclose(np.linalg.norm(np.diff(V[path], axis=0), axis=1).sum(), shortest, rtol=1e-12)
 
 
-def path_edges(path):
-    return np.column_stack([path[:-1], path[1:]])
-
-
 def test_cut_along_edges_opens_a_sphere_into_a_disk_and_weld_closes_it():
     V, F = sphere_mesh()
     path = shortest_edge_path(V, F, int(np.argmin(V[:, 2])), int(np.argmax(V[:, 2])))
-    F_cut, parent = cut_along_edges(F, path_edges(path))
+    F_cut, parent = cut_along_edges(F, path_edges([path]))
     # the path's interior vertices are copied, its two ends (one fan each) not
     assert len(F_cut) == len(F) and len(parent) == len(V) + len(path) - 2
     np.testing.assert_array_equal(np.sort(parent[len(V):]), np.sort(path[1:-1]))
     np.testing.assert_array_equal(parent[F_cut], F)  # the same faces, some on copies
     loop = check_disk(V[parent], F_cut)
     assert len(loop) == 2 * (len(path) - 1)
-    X, F_back, kept = weld_cut(V[parent], F_cut, V[path_edges(path)], 1e-12)
+    X, F_back, kept = weld_cut(V[parent], F_cut, V[path_edges([path])], 1e-12)
     assert len(X) == len(V) and not len(boundary_edges(F_back)) and euler_characteristic(F_back) == 2
     np.testing.assert_array_equal(parent[kept][F_back], F)
 
@@ -79,7 +76,7 @@ def test_weld_cut_drops_ears_folded_onto_each_other():
     a = int(np.flatnonzero(np.isclose(uv[:, 0], 0) & np.isclose(uv[:, 1], 0.5))[0])
     b = int(np.flatnonzero(np.isclose(uv[:, 0], 1) & np.isclose(uv[:, 1], 0.5))[0])
     (path,) = paths_across(V, F, [[a, b]])
-    F_cut, parent = cut_along_edges(F, path_edges(path), len(V))
+    F_cut, parent = cut_along_edges(F, path_edges([path]), len(V))
     X = V[parent]
     # an ear on each side: a vertex at the midpoint of a path edge, with one face each
     i, j = path[3], path[4]
@@ -101,11 +98,11 @@ def test_cut_along_edges_splits_a_vertex_into_one_copy_per_fan():
     the boundary to the boundary too, copying its ends."""
     uv, F = grid_disk(7)
     ring = np.array([8, 9, 10, 11, 12, 19, 26, 33, 40, 39, 38, 37, 36, 29, 22, 15, 8])  # the square 1..5
-    F_cut, parent = cut_along_edges(F, path_edges(ring))
+    F_cut, parent = cut_along_edges(F, path_edges([ring]))
     assert len(parent) == len(uv) + 16 and len(boundary_loops(F_cut)) == 3
     assert connected_components(F_cut)[0] == 2
     across = np.arange(3, 46, 7)  # column 3, from the bottom border to the top
-    F_cut, parent = cut_along_edges(F, path_edges(across))
+    F_cut, parent = cut_along_edges(F, path_edges([across]))
     assert len(parent) == len(uv) + len(across) and connected_components(F_cut)[0] == 2
 
 
@@ -154,7 +151,7 @@ def test_cut_refuses_what_it_cannot_do():
     uv, G = grid_disk(5)
     loop = boundary_loop(G)
     with pytest.raises(ValueError, match="^the cut runs along the boundary$"):
-        cut_along_edges(G, path_edges(loop[:3]))
+        cut_along_edges(G, path_edges([loop[:3]]))
     with pytest.raises(ValueError, match="^not one manifold surface$"):
         cut_to_disk(np.r_[V, V + 3], np.r_[F, F + len(V)])
 
@@ -338,6 +335,17 @@ def test_paths_across_run_through_interior_vertices_and_apart():
     assert not np.isin(paths[0], paths[1]).any()
     # bottom to top must cross the first two paths
     assert paths[2] is None
+
+
+def test_path_edges_undo_edge_paths():
+    """The consecutive pairs of each path, which edge_paths splits back into the paths
+    (three meeting at a branch point, and a loop)."""
+    paths = [np.array([0, 1, 2, 3]), np.array([3, 4]), np.array([3, 8]), np.array([5, 6, 7, 5])]
+    E = path_edges(paths)
+    np.testing.assert_array_equal(E, [[0, 1], [1, 2], [2, 3], [3, 4], [3, 8], [5, 6], [6, 7], [7, 5]])
+    assert E.dtype == np.int64 and path_edges([]).shape == (0, 2)
+    back = sorted(sorted(p.tolist()) for p in edge_paths(E, 9))
+    assert back == [[0, 1, 2, 3], [3, 4], [3, 8], [5, 5, 6, 7]]
 
 
 def test_edge_paths_end_at_branch_points_stops_and_ends():

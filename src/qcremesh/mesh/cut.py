@@ -24,6 +24,7 @@ __all__ = [
     "cut_along_edges",
     "cut_to_disk",
     "edge_paths",
+    "path_edges",
     "paths_across",
     "paths_to_boundary",
     "shortest_edge_path",
@@ -92,6 +93,14 @@ def paths_across(V, F, ends):
         blocked[path] = True
         paths.append(path)
     return paths
+
+
+def path_edges(paths):
+    """The edges of vertex paths, each consecutive pair, (k, 2) int64 (the inverse of
+    :func:`edge_paths`); (0, 2) for no path."""
+    if not len(paths):
+        return np.zeros((0, 2), dtype=np.int64)
+    return np.concatenate([np.column_stack([p[:-1], p[1:]]) for p in paths]).astype(np.int64, copy=False)
 
 
 def edge_paths(E, n, stops=None):
@@ -323,7 +332,7 @@ def cut_to_disk(V, F, n=None):
         paths = [path]
     else:
         paths = _paths_between_loops(V[parent], F_cut, len(parent), loops)
-    more = np.concatenate([np.column_stack([p[:-1], p[1:]]) for p in paths]) if paths else np.zeros((0, 2), int)
+    more = path_edges(paths)
     if len(more):
         F_cut, again = cut_along_edges(F_cut, more, len(parent))
         cut = np.r_[cut, parent[more]]
@@ -379,7 +388,7 @@ def _handle_loops(V, F, n, g):
         raise ValueError(f"the tree-cotree decomposition leaves {len(left)} edges, not {2 * g}")
     # Each loop: the tree paths from the root to the two ends of its edge, and the edge.
     paths = [_walk_back(previous, end) for e in left for end in E[e]]
-    cut = np.concatenate([E[left]] + [np.column_stack([p[:-1], p[1:]]) for p in paths])
+    cut = np.concatenate([E[left], path_edges(paths)])
     cut_keys = unique_integers(_edge_keys(cut, total))
     # out of the caps, off the border
     cut_keys = cut_keys[np.isin(cut_keys, border, invert=True)]

@@ -11,7 +11,7 @@ from scipy.sparse.csgraph import connected_components as graph_components
 from scipy.spatial import cKDTree
 
 from ..geometry.operators import doublearea
-from ..mesh.cut import cut_along_edges, edge_paths, paths_across, paths_to_boundary
+from ..mesh.cut import cut_along_edges, edge_paths, path_edges, paths_across, paths_to_boundary
 from ..mesh.topology import boundary_edges, boundary_loops, connected_components, euler_characteristic
 from ..mesh.validate import MeshError
 from ..param.crowding import crowded_arcs
@@ -91,15 +91,12 @@ def crease_cuts(V, F, sharp, paths, faces):
     :func:`qcremesh.mesh.cut.weld_along_paths` takes). ``faces`` is the output's face
     count, shared among the pieces by area."""
 
-    def edges_of(paths):
-        return [np.column_stack([p[:-1], p[1:]]) for p in paths]
-
-    cut = np.concatenate([sharp] + edges_of(paths_to_boundary(V, F, sharp) + paths))
+    cut = np.concatenate([sharp, path_edges(paths_to_boundary(V, F, sharp) + paths)])
     for _ in range(CREASE_ROUNDS):
         more = pieces_crowded_cuts(V, F, cut, faces, CROWDED_SHARE_FIXED)
         if not more:
             break
-        cut = np.concatenate([cut] + edges_of(more))
+        cut = np.concatenate([cut, path_edges(more)])
     return edge_paths(cut, len(V), stops=boundary_edges(F).ravel())
 
 

@@ -32,7 +32,7 @@ from ..adaptive.sizing import check_sizing, curvature_sizing, hole_sizing, point
 from ..geometry.creases import check_crease_angle, sharp_edges
 from ..geometry.operators import doublearea
 from ..geometry.quality import radius_ratio
-from ..mesh.cut import cut_along_edges, cut_to_disk, edge_paths, weld_along_paths, weld_cut
+from ..mesh.cut import cut_along_edges, cut_to_disk, edge_paths, path_edges, weld_along_paths, weld_cut
 from ..mesh.topology import (
     boundary_edges,
     boundary_loop,
@@ -210,7 +210,7 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
     while True:
         if not paths:
             return None
-        cut = np.concatenate([np.column_stack([p[:-1], p[1:]]) for p in paths])
+        cut = path_edges(paths)
         F_cut, parent = cut_along_edges(F, cut, len(V))
         count, label = connected_components(F_cut, len(parent))
         V_cut = V[parent]
@@ -320,11 +320,11 @@ def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, optio
     slivers = q < QUALITY_FLOOR
     if not slivers.any():
         return result
-    cut = np.concatenate([np.column_stack([p[:-1], p[1:]]) for p in paths])
+    cut = path_edges(paths)
     more = pieces_crowded_cuts(V, F, cut, faces, where=result.V[result.F[slivers]].mean(1))
     if not more:
         return result
-    cut = np.concatenate([cut] + [np.column_stack([p[:-1], p[1:]]) for p in more])
+    cut = np.concatenate([cut, path_edges(more)])
     paths = edge_paths(cut, len(V), stops=boundary_edges(F).ravel())
     again = _remesh_along_paths(
         V, F, paths, faces, corners_of(paths), sizing, data, stats, options, min_levels=result.stats["levels"]
