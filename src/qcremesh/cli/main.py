@@ -108,11 +108,17 @@ def _warn_folded(folded):
         )
 
 
+def _departs(quality):
+    """Whether an output leaves the input surface by more than DEPARTURE_EDGES of its mean
+    edge length (``quality`` measured against the input)."""
+    return (quality["hausdorff_edges"] or 0.0) > DEPARTURE_EDGES
+
+
 def _warn_departure(quality):
     """Warn about an output that leaves the input surface by more than DEPARTURE_EDGES
     of its mean edge length, or in which more faces pass through others than in the
     input (``quality`` measured against the input)."""
-    if (quality["hausdorff_edges"] or 0.0) > DEPARTURE_EDGES:
+    if _departs(quality):
         print(
             f"qcremesh: warning: the output lies up to {100 * quality['hausdorff']:.2f} % of the diagonal from the "
             f"input, {quality['hausdorff_edges']:.1f} times its mean edge length: it does not follow the surface "
@@ -357,7 +363,7 @@ def _remesh(args, out):
     faces = args.faces
     if args.edge_length is not None:
         try:
-            faces = faces_for_edge_length(V, F, None, args.edge_length)
+            faces = faces_for_edge_length(V, F, args.edge_length)
         except ValueError as exc:
             raise CommandError(f"--edge-length: {exc}") from exc
     if faces is None and len(F) < 4:
@@ -568,7 +574,7 @@ def _batch(args, out):
             file=out,
             flush=True,
         )
-        if (record["hausdorff_edges"] or 0.0) > DEPARTURE_EDGES:
+        if _departs(record):
             print(
                 f"{head}: warning: the output lies up to {record['hausdorff_edges']:.1f} times its mean edge length "
                 "from the input",

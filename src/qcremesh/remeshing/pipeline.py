@@ -407,7 +407,7 @@ def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, boundary_edge
     return _remesh_cut(V, F, faces, sizing, data, stats, options)
 
 
-def faces_for_edge_length(V, F, faces, edge_length):
+def faces_for_edge_length(V, F, edge_length):
     """The number of equilateral triangles of side ``edge_length`` that cover the area A
     of the surface (V, F), round(4 A / (sqrt(3) edge_length^2)): :func:`remesh`'s face
     count for an ``edge_length``.
@@ -416,8 +416,6 @@ def faces_for_edge_length(V, F, faces, edge_length):
     ----------
     V : (n, 3) float
     F : (m, 3) int
-    faces : int or None
-        The count given as well, which does not go with an edge length (ValueError).
     edge_length : float
         Positive and finite, in the units of ``V``.
 
@@ -426,8 +424,6 @@ def faces_for_edge_length(V, F, faces, edge_length):
     int
         At least 4 (ValueError where the area takes fewer).
     """
-    if faces is not None:
-        raise ValueError("give faces or edge_length, not both")
     length = float(edge_length)
     if not (np.isfinite(length) and length > 0):
         raise ValueError(f"edge_length must be positive and finite, got {edge_length!r}")
@@ -621,7 +617,9 @@ def remesh(
     if V.shape[1] == 2:
         V = np.column_stack([V, np.zeros(len(V))])
     if edge_length is not None:
-        faces = faces_for_edge_length(V, F, faces, edge_length)
+        if faces is not None:
+            raise ValueError("give faces or edge_length, not both")
+        faces = faces_for_edge_length(V, F, edge_length)
     faces = len(F) if faces is None else int(faces)
     if faces < 4:
         raise ValueError("faces must be at least 4")
