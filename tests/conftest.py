@@ -191,6 +191,30 @@ def torus_mesh(k=24, seed=0):
     return V, F
 
 
+def cad_cylinder(sections=64, height=2.0):
+    """A closed cylinder of radius 1 tessellated as CAD exports do (and numbered as
+    trimesh.creation.cylinder numbers it): each facet of its side two triangles as long
+    as the cylinder, each cap a fan from its centre; faces turned outwards."""
+    t = 2 * np.pi * np.arange(sections) / sections
+    bottom = np.column_stack([np.cos(t), np.sin(t), np.full(sections, -height / 2)])
+    top = bottom + [0, 0, height]
+    # the bottom centre, the first facet's edge, the top centre, then each facet's edge
+    ring = np.r_[1, 4 + 2 * np.arange(sections - 1)]
+    V = np.zeros((2 * sections + 2, 3))
+    V[[0, 3]] = [[0, 0, -height / 2], [0, 0, height / 2]]
+    V[ring], V[ring + 1] = bottom, top
+    b, c = ring, np.roll(ring, -1)
+    F = np.concatenate(
+        [
+            np.column_stack([b, np.zeros(sections, dtype=np.int64), c]),
+            np.column_stack([b, c, b + 1]),
+            np.column_stack([b + 1, c, c + 1]),
+            np.column_stack([b + 1, c + 1, np.full(sections, 3)]),
+        ]
+    )
+    return V, F
+
+
 def holed_disk(k=30, holes=((0.3, 0.3, 0.12), (0.7, 0.6, 0.15)), seed=0):
     """A jittered k x k grid of the unit square bent into a bump, with round holes (x, y,
     radius) cut out, their borders sampled on their circles at the grid's spacing: a

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 from scipy.spatial import Delaunay
 
-from conftest import DATA, grid_disk, holed_disk, shared, sphere_mesh, star_disk, strip_disk, tube_disk
+from conftest import DATA, cad_cylinder, grid_disk, holed_disk, shared, sphere_mesh, star_disk, strip_disk, tube_disk
 from qcremesh.geometry.distance import point_mesh_distance
 from qcremesh.geometry.operators import doublearea
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
@@ -502,6 +502,18 @@ def test_a_few_large_triangles_are_split_to_a_quarter_of_the_faces_asked():
     assert r.stats["subdivided_input"] and q["q_mean"] > 0.98 and q["q_min"] > 0.6
     assert abs(q["faces"] - 2000) <= 100 and q["boundary_loops"] == 1
     assert r.data["c"].dtype == np.uint8  # carried through the splits in its type
+
+
+def test_a_cad_cylinder_closed_by_fans_is_remeshed():
+    """A closed cylinder tessellated as CAD exports do: cut open, its caps' fans come out
+    of the Tutte embedding so squeezed that |mu| rounds to 1 (a ValueError of the
+    Beltrami solver); the disk map then builds the same Laplacian from the side lengths."""
+    V, F = cad_cylinder()
+    r = remesh(V, F, 3000)
+    q = mesh_quality(r.V, r.F)
+    assert q["boundary_loops"] == 0 and q["manifold"] and q["euler_characteristic"] == 2
+    assert abs(q["faces"] - 3000) <= 150 and q["q_mean"] > 0.95 and q["q_min"] > 0.5
+    assert point_mesh_distance(r.V, V, F)[0].max() < 1e-9
 
 
 def test_pieces_are_remeshed_each_and_joined():

@@ -73,7 +73,7 @@ from ..beltrami.solver import generalized_laplacian
 from ..geometry.intrinsic import intrinsic_cotmatrix, intrinsic_delaunay
 from ..geometry.linsolve import complement, dirichlet_solve, spd_solver
 from ..geometry.operators import signed_doublearea, vertex_areas
-from ..mesh.topology import adjacency_matrix, boundary_loop, edges
+from ..mesh.topology import adjacency_matrix, boundary_loop, edges, face_edge_lengths
 from ..mesh.validate import TopologyError, as_mesh_arrays, check_disk
 from .tutte import tutte_embedding
 
@@ -87,6 +87,9 @@ MIN_BOUNDARY_ARC = 1e-6
 # (see _untangle).
 UNTANGLE_ROUNDS = 200
 
+# Where a face of the Tutte embedding has |mu| within this of 1 (a dilatation above 1e6),
+# the generalized Laplacian is built from the surface's side lengths instead.
+MU_PRECISION = 1e-6
 # Above this mean |mu| the map is computed again on the intrinsic Delaunay triangulation
 # of the surface, and the closer to conformal of the two kept (the scans of
 # ../shared/data: 0.02-0.03 on their own triangulation).
@@ -247,14 +250,17 @@ def _map_on(V, F, bnd, T, lengths, times):
     t2 = time.perf_counter()
     times["tutte"] = times.get("tutte", 0.0) + t2 - t1
 
-    if lengths is None:
-        L = generalized_laplacian(tutte, T, beltrami_coefficient(tutte, T, V))
-    elif np.all(signed_doublearea(tutte, T) > 0):
-        L = generalized_laplacian(tutte, T, metric_beltrami_coefficient(tutte, T, lengths))
+    mu = None
+    if np.all(signed_doublearea(tutte, T) > 0):
+        mu = beltrami_coefficient(tutte, T, V) if lengths is None else metric_beltrami_coefficient(tutte, T, lengths)
+    if mu is not None and np.all(np.abs(mu) < 1 - MU_PRECISION):
+        L = generalized_laplacian(tutte, T, mu)
     else:
-        # A Tutte embedding of an intrinsic triangulation whose edges run twice between
-        # two vertices can flatten faces; the operator is the same without it.
-        L = intrinsic_cotmatrix(T, lengths, n)
+        # A Tutte embedding can flatten faces (of an intrinsic triangulation whose edges
+        # run twice between two vertices), or squeeze them so that |mu| rounds to 1 (a CAD
+        # cylinder cut open: its caps' fans along the cut); the operator is the same
+        # without it.
+        L = intrinsic_cotmatrix(T, face_edge_lengths(V, T) if lengths is None else lengths, n)
     t3 = time.perf_counter()
     times["beltrami"] = times.get("beltrami", 0.0) + t3 - t2
 
