@@ -215,6 +215,17 @@ def cad_cylinder(sections=64, height=2.0):
     return V, F
 
 
+def cad_trough(facets=40, length=5.0):
+    """A quarter cylinder of radius 1 tessellated as CAD exports do: each facet two
+    triangles as long as the cylinder."""
+    u = np.linspace(0, np.pi / 2, facets)
+    arc = np.column_stack([np.cos(u), np.sin(u), np.zeros(facets)])
+    V = np.concatenate([arc, arc + [0, 0, length]])
+    i = np.arange(facets - 1)
+    F = np.concatenate([np.column_stack([i, i + 1, i + facets + 1]), np.column_stack([i, i + facets + 1, i + facets])])
+    return V, F
+
+
 def holed_disk(k=30, holes=((0.3, 0.3, 0.12), (0.7, 0.6, 0.15)), seed=0):
     """A jittered k x k grid of the unit square bent into a bump, with round holes (x, y,
     radius) cut out, their borders sampled on their circles at the grid's spacing: a

@@ -1,11 +1,21 @@
 import numpy as np
+import pytest
 from scipy.spatial import Delaunay
 
-from conftest import grid_disk
-from qcremesh.geometry.intrinsic import negative_cotangent_weights
+from conftest import cad_trough, grid_disk
+from qcremesh.geometry.distance import point_mesh_distance
+from qcremesh.geometry.intrinsic import intrinsic_delaunay, negative_cotangent_weights
 from qcremesh.geometry.operators import doublearea, signed_doublearea
-from qcremesh.geometry.refine import local_edge_length, refine_boundary, split_boundary_edges
-from qcremesh.mesh.topology import boundary_edges, euler_characteristic, needles_and_caps, nonmanifold_edges
+from qcremesh.geometry.quality import radius_ratio
+from qcremesh.geometry.refine import local_edge_length, refine_boundary, split_edges, split_long_edges
+from qcremesh.mesh.topology import (
+    boundary_edges,
+    edges,
+    euler_characteristic,
+    face_edge_lengths,
+    needles_and_caps,
+    nonmanifold_edges,
+)
 
 
 def scattered(n=3000, aspect=3.0, seed=2, height=None):
@@ -23,31 +33,59 @@ def test_local_edge_length_of_a_grid():
     np.testing.assert_allclose(local_edge_length(V, F, [[0.5, 0.5, 0.0], [0.0, 0.0, 0.0]]), 0.1)
 
 
-def test_split_boundary_edges_keeps_the_surface():
+def test_split_edges_keeps_the_surface():
+    """Boundary edges in thirds and the interior edges of one row in halves: the new
+    vertices on their edges, the old ones first, the surface, its area and orientation
+    as before."""
     uv, F = grid_disk(6)
     V = np.column_stack([uv, uv[:, 0] * uv[:, 1]])
-    B = boundary_edges(F)
-
-    def thirds(E):
-        return np.where(np.linalg.norm(X[E[:, 0]] - X[E[:, 1]], axis=1) > 0.15, 3, 1)
-
-    X = V
-    F1, P1 = split_boundary_edges(F, len(V), thirds)
-    # the four corner faces have two boundary edges each, and take one per call
-    assert len(P1 @ V) == len(V) + 2 * (len(B) - 4)
-    X = P1 @ V
-    F2, P2 = split_boundary_edges(F1, len(X), thirds)
-    P = P2 @ P1
+    E = edges(F)
+    B = np.sort(boundary_edges(F), axis=1)
+    boundary = (E[:, None, :] == B[None]).all(2).any(1)
+    row = ~boundary & (np.abs(V[E, 1].mean(1) - 0.5) < 0.05)
+    count = np.where(boundary, 3, np.where(row, 2, 1))
+    F2, P = split_edges(F, len(V), lambda E2: count if np.array_equal(E2, E) else None)
     V2 = P @ V
-    assert len(V2) == len(V) + 2 * len(B) and len(boundary_edges(F2)) == 3 * len(B)
+    assert len(V2) == len(V) + (count - 1).sum() and len(boundary_edges(F2)) == 3 * len(B)
     np.testing.assert_array_equal(V2[: len(V)], V)
-    # the new vertices at 1/3 and 2/3 of the edges, the area and orientation as before
-    np.testing.assert_allclose(doublearea(V2, F2).sum(), doublearea(V, F).sum())
+    expected = [(1 - t) * V[a] + t * V[b] for (a, b), k in zip(E, count) for t in np.arange(1, k) / k]
+    np.testing.assert_allclose(V2[len(V):], expected, atol=1e-15)
+    np.testing.assert_allclose(doublearea(V2[:, :2], F2).sum(), doublearea(uv, F).sum())
     assert (signed_doublearea(uv, F) > 0).all() and (signed_doublearea(V2[:, :2], F2) > 0).all()
     assert euler_characteristic(F2) == 1 and len(nonmanifold_edges(F2)) == 0
-    ends = V[B]
-    on_edge = [((V2[len(V):] - (1 - t) * e[0] - t * e[1]) ** 2).sum(1).min() for e in ends for t in (1 / 3, 2 / 3)]
-    assert max(on_edge) < 1e-24
+
+
+def test_split_long_edges_turns_cad_strips_into_ladders():
+    """The needles of a CAD quarter cylinder (radius ratio 0.016), cut to pieces about as
+    long as a strip is wide: every vertex on the facets, no edge longer than asked, and
+    well-shaped triangles."""
+    V, F = cad_trough()
+    width = np.linalg.norm(V[1] - V[0])
+    assert radius_ratio(V, F).max() < 0.02
+    F2, P = split_long_edges(V, F, 1.25 * width)
+    V2 = P @ V
+    np.testing.assert_array_equal(V2[: len(V)], V)
+    assert face_edge_lengths(V2, F2).max() <= 1.25 * width
+    # (the chords of a facet lie inside the cylinder; its area is the facets')
+    np.testing.assert_allclose(doublearea(V2, F2).sum(), doublearea(V, F).sum())
+    assert point_mesh_distance(V2, V, F)[0].max() < 1e-12
+    assert radius_ratio(V2, F2).min() > 0.6
+    assert euler_characteristic(F2) == 1 and len(nonmanifold_edges(F2)) == 0
+
+
+def test_split_long_edges_fills_a_large_flat_face():
+    """A square of two triangles to edges of a tenth of its side: its border cut, then the
+    inside halved and flipped until no edge is longer; Delaunay, with no needle."""
+    V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=float)
+    F = np.array([[0, 1, 2], [0, 2, 3]])
+    F2, P = split_long_edges(V, F, 0.1)
+    V2 = P @ V
+    assert face_edge_lengths(V2, F2).max() <= 0.1
+    np.testing.assert_allclose(doublearea(V2, F2).sum(), 2.0)
+    assert (signed_doublearea(V2[:, :2], F2) > 0).all()
+    assert intrinsic_delaunay(V2, F2)[3] == 0 and radius_ratio(V2, F2).min() > 0.25
+    with pytest.raises(ValueError, match="max_length must be positive, got 0"):
+        split_long_edges(V, F, 0)
 
 
 def test_refine_boundary_of_a_scattered_point_set():

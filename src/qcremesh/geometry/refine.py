@@ -1,5 +1,4 @@
-"""Refinement of a mesh's boundary where its edges are far longer than those around them,
-without moving its surface.
+"""Refinement of a mesh where its edges are too long, without moving its surface.
 
 A triangulated point set (a terrain's TIN, a planar Delaunay mesh of scattered points)
 has its convex hull for boundary: a few dozen edges, each tens of times longer than the
@@ -12,6 +11,12 @@ flips the edges of the pieces of the surface that are flat, as Lawson's algorith
 (:func:`~qcremesh.geometry.intrinsic.intrinsic_delaunay` with ``flat``), which turns the
 fans into the Delaunay triangulation of the points there: the same surface, with a
 boundary as fine as its inside.
+
+A CAD tessellation, or a mesh of a few large faces remeshed to many, has edges far longer
+than the output's everywhere, and needles along them. :func:`split_long_edges` cuts every
+edge between two faces not in one plane into pieces of the length wanted, flips the flat
+parts to Delaunay, and halves what is still too long (the inside of a large flat face)
+until nothing is.
 """
 
 from __future__ import annotations
@@ -20,11 +25,11 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from ..mesh.topology import _edge_keys, boundary_edges, half_edges, vertex_face_incidence
+from ..mesh.topology import _edge_keys, boundary_edges, edges, half_edges, twin_half_edges, vertex_face_incidence
 from .intrinsic import intrinsic_delaunay
 from .vectors import aligned
 
-__all__ = ["local_edge_length", "split_boundary_edges", "refine_boundary"]
+__all__ = ["local_edge_length", "refine_boundary", "split_edges", "split_long_edges"]
 
 # Edge flips that keep the surface: those of two faces whose normals are within this angle
 # (radians), as on a planar mesh.
@@ -77,73 +82,6 @@ def _typical_length(V, F, neighbours):
     return at
 
 
-def split_boundary_edges(F, n, pieces):
-    """Cut boundary edges into equal pieces, each boundary face into the fan from its
-    corner opposite the edge.
-
-    A face with several boundary edges to cut gets the one in most pieces; the fan's face
-    that keeps another of them can take it in a further call.
-
-    Parameters
-    ----------
-    F : (m, 3) int
-        Consistently oriented.
-    n : int
-        Number of vertices.
-    pieces : callable
-        ``pieces(E)``: the number of pieces (>= 1) of each boundary edge of the (b, 2)
-        array E.
-
-    Returns
-    -------
-    F_new : (m', 3) int64
-        Oriented as F; the new vertices are numbered from n, each edge's in order from
-        its first end (``E[:, 0]``) on.
-    P : (n', n) scipy.sparse.csr_matrix
-        Each vertex as a combination of the old ones, ``P @ V`` the new positions (and
-        ``P @ data`` any per-vertex data interpolated along the edges).
-    """
-    F = np.asarray(F, dtype=np.int64)
-    m = len(F)
-    B = boundary_edges(F)
-    count = np.asarray(pieces(B), dtype=np.int64)
-    sides = _edge_keys(half_edges(F), n)
-    # the count of each side of each face (side j: F[j] -> F[j + 1]); 1 where not on the boundary
-    order = np.argsort(_edge_keys(B, n))
-    keys = _edge_keys(B, n)[order]
-    at = np.minimum(np.searchsorted(keys, sides), len(keys) - 1)
-    on = keys[at] == sides
-    side = np.where(on, count[order][at], 1).reshape(3, m).T
-    j = side.argmax(axis=1)
-    k = side[np.arange(m), j]
-    cut = np.flatnonzero(k > 1)
-    if not len(cut):
-        return F, sp.identity(n, format="csr")
-    a, b, c = (F[cut, (j[cut] + r) % 3] for r in range(3))
-    k = k[cut]
-    first = n + np.r_[0, np.cumsum(k - 1)[:-1]]
-    # vertex i (1 <= i < k) of the edge a -> b, at i / k from a
-    edge = np.repeat(np.arange(len(cut)), k - 1)
-    i = np.arange(len(edge)) - np.repeat(first - n, k - 1) + 1
-    t = i / k[edge]
-    new = len(edge)
-    rows = np.r_[np.arange(n), np.repeat(n + np.arange(new), 2)]
-    cols = np.r_[np.arange(n), np.column_stack([a[edge], b[edge]]).ravel()]
-    vals = np.r_[np.ones(n), np.column_stack([1 - t, t]).ravel()]
-    P = sp.csr_matrix((vals, (rows, cols)), shape=(n + new, n))
-    # the fan: (p_i, p_i+1, c) for i = 0..k-1, p_0 = a, p_k = b
-    face = np.repeat(np.arange(len(cut)), k)
-    step = np.arange(len(face)) - np.repeat(np.r_[0, np.cumsum(k)[:-1]], k)
-
-    def corner(s):
-        return np.where(s == 0, a[face], np.where(s == k[face], b[face], first[face] + s - 1))
-
-    fans = np.column_stack([corner(step), corner(step + 1), c[face]])
-    keep = np.ones(m, dtype=bool)
-    keep[cut] = False
-    return np.concatenate([F[keep], fans]), P
-
-
 def _flat_around(X, F, E):
     """Whether the face of each boundary edge of E (directed as in its face) and every
     face around its corners lie in one plane (normals within ``FLAT``): where the flips
@@ -160,14 +98,14 @@ def _flat_around(X, F, E):
     return np.bincount(owner, weights=~flat, minlength=len(E)) == 0
 
 
-def refine_boundary(V, F, ratio=4.0, neighbours=16, rounds=3):
+def refine_boundary(V, F, ratio=4.0, neighbours=16):
     """Cut the boundary edges longer than ``ratio`` times the typical edge length around
-    them (:func:`local_edge_length`) into pieces no longer than it
-    (:func:`split_boundary_edges`), where the surface around them is flat (``FLAT``),
-    and flip the edges of the flat parts of the surface to Delaunay; see the module's
-    notes. Where it is not flat (a terrain's boundary faces, which span the dips and rises
-    of the ground between two far points of its hull), the fans would stay fans, which
-    spoil the map as much as the long edges: those edges are left as they are.
+    them (:func:`local_edge_length`) into pieces no longer than it (:func:`split_edges`),
+    where the surface around them is flat (``FLAT``), and flip the edges of the flat parts
+    of the surface to Delaunay; see the module's notes. Where it is not flat (a terrain's
+    boundary faces, which span the dips and rises of the ground between two far points of
+    its hull), the fans would stay fans, which spoil the map as much as the long edges:
+    those edges are left as they are.
 
     Parameters
     ----------
@@ -177,9 +115,6 @@ def refine_boundary(V, F, ratio=4.0, neighbours=16, rounds=3):
     ratio : float
     neighbours : int
         Of :func:`local_edge_length`.
-    rounds : int
-        Calls of :func:`split_boundary_edges` (faces with two long boundary edges take
-        one per call).
 
     Returns
     -------
@@ -194,26 +129,161 @@ def refine_boundary(V, F, ratio=4.0, neighbours=16, rounds=3):
     B = boundary_edges(F)
     if not len(B):
         return None, None
-    typical = _typical_length(V, F, neighbours)
-    P = sp.identity(len(V), format="csr")
-    X = V
+    length = np.linalg.norm(V[B[:, 0]] - V[B[:, 1]], axis=1)
+    local = _typical_length(V, F, neighbours)((V[B[:, 0]] + V[B[:, 1]]) / 2)
+    long = length > ratio * local
+    long[long] = _flat_around(V, F, B[long])
+    if not long.any():
+        return None, None
+    keys = _edge_keys(B[long], len(V))
+    order = np.argsort(keys)
+    count = np.ceil(length[long] / local[long])[order]
 
     def pieces(E):
-        length = np.linalg.norm(X[E[:, 0]] - X[E[:, 1]], axis=1)
-        local = typical((X[E[:, 0]] + X[E[:, 1]]) / 2)
-        long = length > ratio * local
-        long[long] = _flat_around(X, F, E[long])
-        return np.where(long, np.ceil(length / local), 1)
+        at = np.minimum(np.searchsorted(keys[order], _edge_keys(E, len(V))), len(keys) - 1)
+        return np.where(keys[order][at] == _edge_keys(E, len(V)), count[at], 1)
 
-    if not (pieces(B) > 1).any():
-        return None, None
-    for _ in range(rounds):
-        F_next, Q = split_boundary_edges(F, len(X), pieces)
-        if Q.shape[0] == len(X):
+    F, P = split_edges(F, len(V), pieces)
+    F = intrinsic_delaunay(P @ V, F, flat=FLAT)[0]
+    return F, P
+
+
+def split_edges(F, n, pieces):
+    """Cut edges into equal pieces, each face into fans from its corners over its cut sides.
+
+    A face takes its side in most pieces first: the fan from the corner opposite it; the
+    first and last faces of the fan keep the face's other two sides and take theirs in
+    turn, so a face with three cut sides is three fans deep. The new faces are needles
+    where a side is cut into many pieces (a flip to Delaunay makes them well shaped, see
+    :func:`split_long_edges`).
+
+    Parameters
+    ----------
+    F : (m, 3) int
+        Consistently oriented.
+    n : int
+        Number of vertices.
+    pieces : callable
+        ``pieces(E)``: the number of pieces (>= 1) of each edge of the sorted (e, 2)
+        array E of the undirected edges (``E[:, 0] < E[:, 1]``).
+
+    Returns
+    -------
+    F_new : (m', 3) int64
+        Oriented as F; the new vertices are numbered from n, each edge's in order from
+        ``E[:, 0]`` on.
+    P : (n', n) scipy.sparse.csr_matrix
+        Each vertex as a combination of the old ones, ``P @ V`` the new positions (and
+        ``P @ data`` any per-vertex data interpolated along the edges).
+    """
+    F = np.asarray(F, dtype=np.int64)
+    E = edges(F)
+    count = np.asarray(pieces(E), dtype=np.int64)
+    cut = np.flatnonzero(count > 1)
+    if not len(cut):
+        return F, sp.identity(n, format="csr")
+    lo, hi, k = E[cut, 0], E[cut, 1], count[cut]
+    first = n + np.r_[0, np.cumsum(k - 1)[:-1]]
+    # vertex i (1 <= i < k) of the edge lo -> hi, at i / k from lo
+    edge = np.repeat(np.arange(len(cut)), k - 1)
+    t = (np.arange(len(edge)) - np.repeat(first - n, k - 1) + 1) / k[edge]
+    new = len(edge)
+    rows = np.r_[np.arange(n), np.repeat(n + np.arange(new), 2)]
+    cols = np.r_[np.arange(n), np.column_stack([lo[edge], hi[edge]]).ravel()]
+    vals = np.r_[np.ones(n), np.column_stack([1 - t, t]).ravel()]
+    P = sp.csr_matrix((vals, (rows, cols)), shape=(n + new, n))
+    total = n + new
+    keys = _edge_keys(np.column_stack([lo, hi]), total)  # sorted, as E is
+    for _ in range(3):
+        m = len(F)
+        sides = _edge_keys(half_edges(F), total)
+        at = np.minimum(np.searchsorted(keys, sides), len(keys) - 1)
+        on = keys[at] == sides
+        side = np.where(on, k[at], 1).reshape(3, m).T
+        j = side.argmax(axis=1)
+        todo = np.flatnonzero(side[np.arange(m), j] > 1)
+        if not len(todo):
+            break
+        j = j[todo]
+        which = at.reshape(3, m).T[todo, j]
+        a, b, c = (F[todo, (j + r) % 3] for r in range(3))
+        kf, start = k[which], first[which]
+        forward = a == lo[which]
+        face = np.repeat(np.arange(len(todo)), kf)
+        step = np.arange(len(face)) - np.repeat(np.r_[0, np.cumsum(kf)[:-1]], kf)
+
+        def corner(s):
+            along = np.where(forward[face], s, kf[face] - s)
+            return np.where(s == 0, a[face], np.where(s == kf[face], b[face], start[face] + along - 1))
+
+        fans = np.column_stack([corner(step), corner(step + 1), c[face]])
+        keep = np.ones(m, dtype=bool)
+        keep[todo] = False
+        F = np.concatenate([F[keep], fans])
+    return F, P
+
+
+def split_long_edges(V, F, max_length, max_rounds=32):
+    """The surface on vertices no farther apart than ``max_length`` along any edge. The
+    edges on the boundary and between faces not in one plane are cut into equal pieces no
+    longer than it (:func:`split_edges`) and the edges of the flat parts of the surface
+    flipped to Delaunay, as in :func:`refine_boundary` (each flat part is then the
+    Delaunay triangulation of the points on its border); then, in rounds, every edge still
+    longer is halved and the flat parts flipped again (the inside of a large flat face).
+    The surface does not move.
+
+    A CAD tessellation has strips of needles (a cylinder's two triangles per facet, each
+    as long as the cylinder), which a disk map cannot make conformal and an output finer
+    than them cannot follow; cut into pieces about as long as the strip is wide, with no
+    point inside the strip (a strip's diagonal halved would put points beside its sides),
+    they become ladders of well-shaped triangles.
+
+    Parameters
+    ----------
+    V : (n, 3) float
+    F : (m, 3) int
+        A consistently oriented manifold mesh.
+    max_length : float
+        Positive.
+    max_rounds : int
+        Rounds of halving at most.
+
+    Returns
+    -------
+    F_new : (m', 3) int64
+        F where no edge is longer than ``max_length``.
+    P : (n', n) scipy.sparse.csr_matrix
+        The vertices as combinations of the input's: ``P @ V`` their positions, ``P @
+        data`` any per-vertex data.
+    """
+    if not max_length > 0:
+        raise ValueError(f"max_length must be positive, got {max_length!r}")
+    V = np.asarray(V, dtype=np.float64)
+    F = np.asarray(F, dtype=np.int64)
+    P = sp.identity(len(V), format="csr")
+    X = V
+    for k in range(max_rounds):
+        E = edges(F)
+        length = np.linalg.norm(X[E[:, 1]] - X[E[:, 0]], axis=1)
+        if k:
+            count = np.where(length > max_length, 2, 1)
+        else:
+            count = np.where(_bent_edges(X, F, E), np.maximum(np.ceil(length / max_length), 1), 1)
+        F_next, Q = split_edges(F, len(X), lambda _, count=count: count)
+        if Q.shape[0] == len(X) and k:
             break
         F, P = F_next, (Q @ P).tocsr()
         X = P @ V
-    if len(X) == len(V):
-        return None, None
-    F = intrinsic_delaunay(X, F, flat=FLAT)[0]
+        F = intrinsic_delaunay(X, F, flat=FLAT)[0]
     return F, P
+
+
+def _bent_edges(X, F, E):
+    """Whether each edge of the sorted undirected edges E of F (:func:`edges`) is on the
+    boundary or between two faces that are not in one plane (normals beyond ``FLAT``)."""
+    n = int(F.max()) + 1
+    m = len(F)
+    i, j = twin_half_edges(F)
+    normal = np.cross(X[F[:, 1]] - X[F[:, 0]], X[F[:, 2]] - X[F[:, 0]])
+    flat_keys = _edge_keys(half_edges(F)[i[aligned(normal[i % m], normal[j % m], FLAT)]], n)
+    return ~np.isin(_edge_keys(E, n), flat_keys)

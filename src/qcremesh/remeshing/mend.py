@@ -2,13 +2,14 @@
 and can be mended without moving the surface (repeated faces, unused vertices,
 non-manifold edges and vertices, faces turned against their neighbours, needles and caps),
 boundary edges far longer than those around them cut into pieces, and a surface of a few
-faces split 1-to-4. Per-vertex data and a sizing field follow the vertices."""
+faces split 1-to-4 or of long needles cut along their edges. Per-vertex data and a
+sizing field follow the vertices."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..geometry.refine import refine_boundary
+from ..geometry.refine import refine_boundary, split_long_edges
 from ..geometry.repair import repair_degenerate_faces
 from ..mesh.subdivide import upsample
 from ..mesh.topology import (
@@ -26,7 +27,7 @@ from ..mesh.topology import (
 from ..mesh.validate import OrientationError
 from .project import in_type
 
-__all__ = ["LONG_BOUNDARY_RATIO", "refine_long_boundary", "renumbered", "repair_input", "upsampled"]
+__all__ = ["LONG_BOUNDARY_RATIO", "refine_long_boundary", "refined", "renumbered", "repair_input", "upsampled"]
 
 # Boundary edges more than this many times as long as the edges around them (the convex
 # hull of a triangulated point set: 30-150 times) are cut into pieces where the surface
@@ -53,14 +54,28 @@ def refine_long_boundary(V, F, data, sizing, stats, loop=None):
     if F_new is None:
         return V, F, data, sizing
     stats["boundary_split_vertices"] = along.shape[0] - len(V)
+    return (along @ V, F_new) + _interpolated(along, data, sizing)
+
+
+def _interpolated(P, data, sizing):
+    """Per-vertex data (in their types) and a sizing array (or None) at the vertices ``P
+    @ V`` (P sparse, each new vertex a combination of the old ones)."""
 
     def carried(values):
         values = np.asarray(values)
         flat = np.asarray(values, dtype=np.float64).reshape(len(values), -1)
-        return in_type((along @ flat).reshape((along.shape[0],) + values.shape[1:]), values.dtype)
+        return in_type((P @ flat).reshape((P.shape[0],) + values.shape[1:]), values.dtype)
 
     data = {k: carried(v) for k, v in data.items()} if data else data
-    return along @ V, F_new, data, None if sizing is None else along @ sizing
+    return data, None if sizing is None else P @ sizing
+
+
+def refined(V, F, data, sizing, max_length):
+    """The surface on vertices no farther apart than ``max_length`` along an edge
+    (:func:`qcremesh.geometry.refine.split_long_edges`): vertices, faces, data and sizing
+    interpolated along the edges (data in their types)."""
+    F, P = split_long_edges(V, F, max_length)
+    return (P @ V, F) + _interpolated(P, data, sizing)
 
 
 def repair_input(V, F, data, sizing, stats):

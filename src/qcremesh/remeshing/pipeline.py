@@ -39,6 +39,7 @@ from ..mesh.topology import (
     boundary_loops,
     connected_components,
     euler_characteristic,
+    face_edge_lengths,
     genus,
 )
 from ..mesh.validate import (
@@ -63,7 +64,7 @@ from .cut_paths import (
 )
 from .disk_remesh import levels_above_min_base, output_edge_length, planned_levels, remesh_disk
 from .min_quality import QUALITY_FLOOR
-from .mend import refine_long_boundary, renumbered, repair_input, upsampled
+from .mend import refine_long_boundary, refined, renumbered, repair_input, upsampled
 from .result import RemeshResult, StageTimes
 from .weld import coincident_pairs, crack_hint, join_pieces, weld_defects, weld_levels
 
@@ -82,15 +83,32 @@ TRIM_REACH = 3.0
 # Fewest faces of a piece so cut off (else its path is not cut).
 MIN_PIECE_FACES = 16
 
-# A disk of fewer faces than a quarter of those asked for is split 1-to-4 until it has as
-# many where the mean |mu| of its disk map is above this. A cube of 12 faces at 500 / 5,000
-# faces (its cut disk's map 0.64): mean q 0.71 / 0.69, min q 0.013 / 0.000 -> 0.967 /
-# 0.984, 0.68 / 0.66, and 7 s -> 0.2 s at 5,000. Where the map is near conformal it is not
-# worth it: split, a hexagon of 6 faces (0.000), a cone over it (0.098) and a saddle of 32
-# faces (0.138) at 200 and 2,000 faces lost up to 0.011 of mean q; closed meshes of 1,000
-# to 10,000 faces at 8-20 times as many (cut disks' maps 0.04-0.10) moved by -0.0002 to
-# +0.0013 (min q up by 0.00-0.08).
+# A disk whose map is far from conformal (mean |mu| above COARSE_MAP_MU) and that has more
+# than COARSE_SHARE of its area in faces with an edge longer than LONG_EDGE_RATIO output
+# edges (coarser than the output nearly everywhere) is refined first, the surface kept:
+# split 1-to-4 until it has a quarter of the faces asked for where every face has a radius
+# ratio of at least WELL_SHAPED (its faces keep their shapes), else its edges longer than
+# that cut (:func:`qcremesh.remeshing.mend.refined`: in equal pieces, the flat parts
+# flipped to Delaunay), which 1-to-4 would leave needles. A cube of 12 faces at 500 /
+# 5,000 faces (its cut disk's map 0.64): mean q 0.71 / 0.69, min q 0.013 / 0.000 -> 0.967
+# / 0.984, 0.68 / 0.66 split 1-to-4, and 7 s -> 0.2 s at 5,000; with its edges cut
+# instead, seeds 0-3 at 500 / 2,000 / 5,000, mean q 0.9627 / 0.9799 / 0.9866 -> 0.9612 /
+# 0.9769 / 0.9855. A CAD tessellation's needles, seeds 0-3: a quarter cylinder of 78
+# faces, each as long as the cylinder, at 500 / 3,000 faces 0.851 / 0.950 split 1-to-4 ->
+# 0.956 / 0.982 cut; a closed cylinder of 256, 0.941 / 0.985 -> 0.969 / 0.986 (mean min q
+# 0.49 / 0.69 -> 0.68 / 0.61). camel_b.obj (map 0.39, 42 % of its area in such faces at
+# its face count; two of its pieces cut where the map crowds, 0.32 / 0.34 and 63 / 65 %,
+# of median radius ratio 0.64 / 0.62) is left: cut whole, seeds 0-3 at its face count /
+# half, mean q 0.9514 / 0.9286 -> 0.9521 / 0.9271 and the smallest min q at half 0.069 ->
+# 0.006; those two pieces cut, 0.9514 -> 0.9505 at its count, Hausdorff 1.13 -> 1.22 % at
+# seed 0. Where the map is near conformal it is not worth it: split, a hexagon of 6 faces
+# (0.000), a cone over it (0.098) and a saddle of 32 faces (0.138) at 200 and 2,000 faces
+# lost up to 0.011 of mean q; closed meshes of 1,000 to 10,000 faces at 8-20 times as many
+# (cut disks' maps 0.04-0.10) moved by -0.0002 to +0.0013 (min q up by 0.00-0.08).
 COARSE_MAP_MU = 0.3
+LONG_EDGE_RATIO = 2.0
+COARSE_SHARE = 0.9
+WELL_SHAPED = 0.5
 
 
 def _remesh_cut(V, F, faces, sizing, data, repairs, options):
@@ -692,12 +710,17 @@ def remesh(
         if result is None:
             raise
         return result
-    if 4 * len(F) < faces and dm.mean_abs_mu > COARSE_MAP_MU:
-        # A few large faces whose disk map is far from conformal (a cube's of 12, cut
-        # open: mean |mu| 0.64) split 1-to-4 until they are a quarter of the faces asked for.
-        V, F, data, sizing = upsampled(V, F, data, sizing, lambda G: 4 * len(G) >= faces)
-        dm = disk_conformal_map(V, F)
-        stats["subdivided_input"] = True
+    if dm.mean_abs_mu > COARSE_MAP_MU:
+        # (faces large or long beside the output's, see COARSE_MAP_MU)
+        longest = LONG_EDGE_RATIO * output_edge_length(V, F, faces)
+        area = doublearea(V, F)
+        if area[face_edge_lengths(V, F).max(axis=1) > longest].sum() > COARSE_SHARE * area.sum():
+            if radius_ratio(V, F).min() >= WELL_SHAPED:
+                V, F, data, sizing = upsampled(V, F, data, sizing, lambda G: 4 * len(G) >= faces)
+            else:
+                V, F, data, sizing = refined(V, F, data, sizing, longest)
+            dm = disk_conformal_map(V, F)
+            stats["subdivided_input"] = True
     stats.update(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces
     )
