@@ -191,10 +191,11 @@ def torus_mesh(k=24, seed=0):
     return V, F
 
 
-def cad_cylinder(sections=64, height=2.0):
+def cad_cylinder(sections=64, height=2.0, lid=True):
     """A closed cylinder of radius 1 tessellated as CAD exports do (and numbered as
     trimesh.creation.cylinder numbers it): each facet of its side two triangles as long
-    as the cylinder, each cap a fan from its centre; faces turned outwards."""
+    as the cylinder, each cap a fan from its centre; faces turned outwards. Without its
+    top cap (``lid``), a cup: a disk."""
     t = 2 * np.pi * np.arange(sections) / sections
     bottom = np.column_stack([np.cos(t), np.sin(t), np.full(sections, -height / 2)])
     top = bottom + [0, 0, height]
@@ -210,9 +211,10 @@ def cad_cylinder(sections=64, height=2.0):
             np.column_stack([b, c, b + 1]),
             np.column_stack([b + 1, c, c + 1]),
             np.column_stack([b + 1, c + 1, np.full(sections, 3)]),
-        ]
+        ][: 4 if lid else 3]
     )
-    return V, F
+    used, F = np.unique(F, return_inverse=True)
+    return V[used], F.reshape(-1, 3)
 
 
 def cad_trough(facets=40, length=5.0):

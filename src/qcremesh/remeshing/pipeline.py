@@ -418,7 +418,8 @@ def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, boundary_edge
             V_fine, F_fine, faces, sizing=fine_sizing, fixed_boundary=fixed_boundary, corners=corners,
             boundary_edge_length=boundary_edge_length, data=fine_data, **options,
         )
-        result.stats.update(stats, subdivided_input=True)
+        # (the levels and the rest of what the remesh of the split strip measured stand)
+        result.stats = {**stats, **result.stats, "subdivided_input": True}
         return result
     if corners is not None and len(corners):
         raise ValueError("corners are taken only on a disk")
