@@ -5,7 +5,20 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import DATA, grid_disk, holed_disk, shapes, shared, sphere_mesh, split_vertex, star_disk, strip_disk, torus_mesh, tube_disk
+from conftest import (
+    DATA,
+    cad_trough,
+    grid_disk,
+    holed_disk,
+    shapes,
+    shared,
+    sphere_mesh,
+    split_vertex,
+    star_disk,
+    strip_disk,
+    torus_mesh,
+    tube_disk,
+)
 from qcremesh.cli.main import main
 from qcremesh.mesh.io import read_mesh, write_mesh
 from qcremesh.mesh.subdivide import upsample
@@ -142,6 +155,18 @@ def test_remesh_cli_says_when_landmarks_were_drawn_again(tmp_path, capsys):
         "\ncut into 5 pieces where the disk map crowds the boundary, remeshed each on its own map and welded back "
         "(1,284, 61, 197, 62, 173 faces; the numbers below are the largest's)\n"
     ) in text
+
+
+def test_remesh_cli_says_when_the_input_was_refined(tmp_path, capsys):
+    path = tmp_path / "trough.obj"
+    write_mesh(path, *cad_trough())
+    assert main(["remesh", str(path), "-o", str(tmp_path / "t.ply"), "--faces", "3000"]) == 0
+    found = re.search(
+        r"\nthe input refined first, the surface kept \(a few large faces, or needles, beside the output's\): "
+        r"([\d,]+) faces\n",
+        capsys.readouterr().out,
+    )
+    assert found and int(found.group(1).replace(",", "")) > 10 * 78
 
 
 def test_remesh_cli_warns_when_the_disk_map_is_far_from_conformal(tmp_path, capsys):

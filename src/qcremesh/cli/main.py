@@ -417,6 +417,12 @@ def _remesh(args, out):
             f"point set's hull) cut into pieces first: {st['boundary_split_vertices']:,} vertices added on them",
             file=out,
         )
+    if "subdivided_input" in st:
+        print(
+            f"the input refined first, the surface kept (a few large faces, or needles, beside the output's): "
+            f"{st['subdivided_input']:,} faces",
+            file=out,
+        )
     asked = len(F) if faces is None else faces
     if abs(len(result.F) - asked) > max(FACE_COUNT_SLACK * asked, 8):
         print(

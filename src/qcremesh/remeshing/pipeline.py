@@ -101,7 +101,10 @@ MIN_PIECE_FACES = 16
 # of median radius ratio 0.64 / 0.62) is left: cut whole, seeds 0-3 at its face count /
 # half, mean q 0.9514 / 0.9286 -> 0.9521 / 0.9271 and the smallest min q at half 0.069 ->
 # 0.006; those two pieces cut, 0.9514 -> 0.9505 at its count, Hausdorff 1.13 -> 1.22 % at
-# seed 0. Where the map is near conformal it is not worth it: split, a hexagon of 6 faces
+# seed 0. With a sizing field none is refined (camel_b.obj with the curvature sizing: a
+# piece cut where its map crowds, refined against the mean edge length where its field
+# asks for shorter ones, mean q 0.937 -> 0.894, min q 0.41 -> 0.005). Where the map is near
+# conformal it is not worth it: split, a hexagon of 6 faces
 # (0.000), a cone over it (0.098) and a saddle of 32 faces (0.138) at 200 and 2,000 faces
 # lost up to 0.011 of mean q; closed meshes of 1,000 to 10,000 faces at 8-20 times as many
 # (cut disks' maps 0.04-0.10) moved by -0.0002 to +0.0013 (min q up by 0.00-0.08).
@@ -419,7 +422,8 @@ def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, boundary_edge
             boundary_edge_length=boundary_edge_length, data=fine_data, **options,
         )
         # (the levels and the rest of what the remesh of the split strip measured stand)
-        result.stats = {**stats, **result.stats, "subdivided_input": True}
+        result.stats = {**stats, **result.stats}
+        result.stats["subdivided_input"] = result.stats.get("subdivided_input") or len(F_fine)
         return result
     if corners is not None and len(corners):
         raise ValueError("corners are taken only on a disk")
@@ -500,7 +504,11 @@ def remesh(
     surface kept: repeated faces kept once (``stats["duplicate_faces"]``), faces
     reversed to the majority's orientation
     (``stats["reoriented_faces"]``), needles merged and caps flipped away
-    (``stats["repaired_needles"]``, ``stats["repaired_caps"]``).
+    (``stats["repaired_needles"]``, ``stats["repaired_caps"]``). A disk with every vertex
+    on its boundary, or coarser than the output nearly everywhere with a map far from
+    conformal (a few large faces; a CAD tessellation's needles), is refined first, the
+    surface kept (``stats["subdivided_input"]``, the faces it then has; see
+    ``COARSE_MAP_MU``).
 
     Parameters
     ----------
@@ -711,8 +719,9 @@ def remesh(
         if result is None:
             raise
         return result
-    if dm.mean_abs_mu > COARSE_MAP_MU:
-        # (faces large or long beside the output's, see COARSE_MAP_MU)
+    if dm.mean_abs_mu > COARSE_MAP_MU and sizing is None:
+        # (faces large or long beside the output's, see COARSE_MAP_MU; not measured
+        # against a graded edge length)
         longest = LONG_EDGE_RATIO * output_edge_length(V, F, faces)
         area = doublearea(V, F)
         if area[face_edge_lengths(V, F).max(axis=1) > longest].sum() > COARSE_SHARE * area.sum():
@@ -721,7 +730,7 @@ def remesh(
             else:
                 V, F, data, sizing = refined(V, F, data, sizing, longest)
             dm = disk_conformal_map(V, F)
-            stats["subdivided_input"] = True
+            stats["subdivided_input"] = len(F)
     stats.update(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces
     )
