@@ -25,7 +25,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from ..mesh.topology import _edge_keys, boundary_edges, edges, half_edges, twin_half_edges, vertex_face_incidence
+from ..mesh.topology import _edge_keys, boundary_edges, edges, half_edges, vertex_face_incidence
+from .creases import dihedral_angles
 from .intrinsic import intrinsic_delaunay
 from .vectors import aligned
 
@@ -135,20 +136,16 @@ def refine_boundary(V, F, ratio=4.0, neighbours=16):
     long[long] = _flat_around(V, F, B[long])
     if not long.any():
         return None, None
-    keys = _edge_keys(B[long], len(V))
-    order = np.argsort(keys)
-    count = np.ceil(length[long] / local[long])[order]
-
-    def pieces(E):
-        at = np.minimum(np.searchsorted(keys[order], _edge_keys(E, len(V))), len(keys) - 1)
-        return np.where(keys[order][at] == _edge_keys(E, len(V)), count[at], 1)
-
-    F, P = split_edges(F, len(V), pieces)
+    E = edges(F)
+    count = np.ones(len(E))
+    # (E is sorted, and so are its keys)
+    count[np.searchsorted(_edge_keys(E, len(V)), _edge_keys(B[long], len(V)))] = np.ceil(length[long] / local[long])
+    F, P = split_edges(F, len(V), count)
     F = intrinsic_delaunay(P @ V, F, flat=FLAT)[0]
     return F, P
 
 
-def split_edges(F, n, pieces):
+def split_edges(F, n, count):
     """Cut edges into equal pieces, each face into fans from its corners over its cut sides.
 
     A face takes its side in most pieces first: the fan from the corner opposite it; the
@@ -163,9 +160,9 @@ def split_edges(F, n, pieces):
         Consistently oriented.
     n : int
         Number of vertices.
-    pieces : callable
-        ``pieces(E)``: the number of pieces (>= 1) of each edge of the sorted (e, 2)
-        array E of the undirected edges (``E[:, 0] < E[:, 1]``).
+    count : (e,) int
+        The number of pieces (>= 1) of each edge of ``edges(F)``
+        (:func:`qcremesh.mesh.topology.edges`: sorted, ``E[:, 0] < E[:, 1]``).
 
     Returns
     -------
@@ -178,7 +175,7 @@ def split_edges(F, n, pieces):
     """
     F = np.asarray(F, dtype=np.int64)
     E = edges(F)
-    count = np.asarray(pieces(E), dtype=np.int64)
+    count = np.asarray(count, dtype=np.int64)
     cut = np.flatnonzero(count > 1)
     if not len(cut):
         return F, sp.identity(n, format="csr")
@@ -269,7 +266,7 @@ def split_long_edges(V, F, max_length, max_rounds=32):
             count = np.where(length > max_length, 2, 1)
         else:
             count = np.where(_bent_edges(X, F, E), np.maximum(np.ceil(length / max_length), 1), 1)
-        F_next, Q = split_edges(F, len(X), lambda _, count=count: count)
+        F_next, Q = split_edges(F, len(X), count)
         if Q.shape[0] == len(X) and k:
             break
         F, P = F_next, (Q @ P).tocsr()
@@ -280,10 +277,8 @@ def split_long_edges(V, F, max_length, max_rounds=32):
 
 def _bent_edges(X, F, E):
     """Whether each edge of the sorted undirected edges E of F (:func:`edges`) is on the
-    boundary or between two faces that are not in one plane (normals beyond ``FLAT``)."""
-    n = int(F.max()) + 1
-    m = len(F)
-    i, j = twin_half_edges(F)
-    normal = np.cross(X[F[:, 1]] - X[F[:, 0]], X[F[:, 2]] - X[F[:, 0]])
-    flat_keys = _edge_keys(half_edges(F)[i[aligned(normal[i % m], normal[j % m], FLAT)]], n)
-    return ~np.isin(_edge_keys(E, n), flat_keys)
+    boundary or between two faces that are not in one plane (turning by more than
+    ``FLAT``, :func:`qcremesh.geometry.creases.dihedral_angles`)."""
+    inner, turn = dihedral_angles(X, F)
+    flat = inner[turn <= np.degrees(FLAT)]
+    return ~np.isin(_edge_keys(E, len(X)), _edge_keys(flat, len(X)))
