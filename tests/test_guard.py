@@ -29,10 +29,9 @@ def pit():
 
 
 def test_a_move_out_of_the_pit_is_refused():
-    """The pit's bottom, 0.51 from the output, is watched; the centre may stay or go a
-    little deeper, not up into the plane (the bottom would be 1 away, beyond the limit
-    0.6 and beyond where it is), nor down onto the bottom (the pit's rim would be 0.9
-    away)."""
+    """The pit's bottom, 0.51 from the output, is watched; the centre may move onto
+    it or stay, not up into the plane (the bottom would be 1 away, beyond the limit 0.6
+    and beyond where it is)."""
     V, F, X, Fo = pit()
     VF = vertex_face_incidence(Fo, len(X))
     guard = DistanceGuard(X, Fo, VF, V, 0.6)
@@ -40,8 +39,8 @@ def test_a_move_out_of_the_pit_is_refused():
     bottom = np.flatnonzero(guard.points == 0)[0]
     assert 0.45 < guard.distance[bottom] < 0.55
     Xc = np.array([[[0.0, 0.0, -1.0], [0.1, 0.0, -0.5], [1.0, 0.0, 0.0], [0.1, 0.0, -0.6]]])
-    assert guard.excluded(X, Fo, VF, np.array([0]), Xc).tolist() == [[True, False, True, False]]
-    # A guard that allows 1.2 takes every move.
+    assert guard.excluded(X, Fo, VF, np.array([0]), Xc).tolist() == [[False, False, True, False]]
+    # Beyond the limit of a guard that allows 1.2, the same move is taken.
     assert not DistanceGuard(X, Fo, VF, V, 1.2).excluded(X, Fo, VF, np.array([0]), Xc).any()
 
 
