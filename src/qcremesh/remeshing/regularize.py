@@ -93,9 +93,7 @@ def _with_staying(here, candidates):
     return np.concatenate([here[:, None], candidates], axis=1)
 
 
-def raise_regular_fraction(
-    X, uv, face, s, Fo, A, VF, bnd, movable, V, F, disk_uv, vertex_faces, curve, rounds, guard=None
-):
+def raise_regular_fraction(X, uv, face, s, Fo, A, VF, bnd, movable, V, F, disk_uv, vertex_faces, curve, rounds):
     """Pattern search that raises the number of faces with a radius ratio of at least
     0.9, in place (see the module documentation).
 
@@ -137,9 +135,6 @@ def raise_regular_fraction(
         The input boundary.
     rounds : int
         Maximum number of rounds.
-    guard : DistanceGuard, optional
-        Refuses the candidates that take an input vertex it watches too far from the
-        output (:class:`~qcremesh.remeshing.guard.DistanceGuard`).
     """
     k = len(X)
     where_bnd = np.full(k, -1)
@@ -161,8 +156,7 @@ def raise_regular_fraction(
                 X, Fo, VF, inner, reach[~on_bnd], face, V, F, disk_uv, vertex_faces, _STEPS
             )
             Xc, uvc, fc = _with_staying(X[inner], Xc), _with_staying(uv[inner], uvc), _with_staying(face[inner], fc)
-            excluded = None if guard is None else guard.excluded(X, Fo, VF, inner, Xc)
-            j, ok = _best_candidates(X, uv, Fo, VF, inner, Xc, uvc, face, input_normals, excluded)
+            j, ok = _best_candidates(X, uv, Fo, VF, inner, Xc, uvc, face, input_normals)
             rows = np.flatnonzero(ok)
             X[inner[rows]], uv[inner[rows]], face[inner[rows]] = Xc[rows, j[rows]], uvc[rows, j[rows]], fc[rows, j[rows]]
             better[~on_bnd] = ok
@@ -172,10 +166,7 @@ def raise_regular_fraction(
             Xc, uvc, sc = _with_staying(X[outer], Xc), _with_staying(uv[outer], uvc), _with_staying(s[i], sc)
             # Nor does a slide take the output boundary farther from the input's.
             far = boundary_deviation(s, i, Xc, sc, X[bnd], curve)
-            excluded = far > far[:, :1]
-            if guard is not None:
-                excluded |= guard.excluded(X, Fo, VF, outer, Xc)
-            j, ok = _best_candidates(X, uv, Fo, VF, outer, Xc, uvc, face, input_normals, excluded)
+            j, ok = _best_candidates(X, uv, Fo, VF, outer, Xc, uvc, face, input_normals, far > far[:, :1])
             rows = np.flatnonzero(ok)
             X[outer[rows]], uv[outer[rows]], s[i[rows]] = Xc[rows, j[rows]], uvc[rows, j[rows]], sc[rows, j[rows]]
             better[on_bnd] = ok
@@ -184,5 +175,3 @@ def raise_regular_fraction(
         if len(moved):
             stuck[csr_rows(A, moved)[0]] = False
             quality.update(X, face, moved)
-            if guard is not None:
-                guard.update(X, Fo, VF, moved)

@@ -39,7 +39,6 @@ from ..geometry.threads import query_workers
 from ..geometry.vectors import norm
 from ..mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
 from .compiled import smooth_targets_kernel
-from .guard import DistanceGuard
 from .min_quality import QUALITY_FLOOR, raise_min_quality
 from .onsurface import BoundaryCurve, closest_point_near, csr_rows
 from .regularize import raise_regular_fraction
@@ -379,25 +378,19 @@ def relax_on_surface(
                 X, uv, face, s, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, curve, min_quality,
                 max(rounds // 12, 1),
             )
-    last_search = min_quality > 0 and rounds > 0 and radius_ratio(X, Fo).min() < SNAPPED_FLOOR
-    # The last two searches keep the input vertices the snapping reached within its reach.
-    guard = None
-    if snap > 0 and (last_search or regular_rounds > 0):
-        guard = DistanceGuard(X, Fo, VF, V, snap * _edge_lengths(X, E).mean())
-    if last_search:
+    if min_quality > 0 and rounds > 0 and radius_ratio(X, Fo).min() < SNAPPED_FLOOR:
         # The snapping leaves faces down to QUALITY_FLOOR around the vertices it moved into
         # pockets, and held there they stay; a short search in which they may move again to
         # mend a face below SNAPPED_FLOOR lifts the worst of them.
         raise_min_quality(
             X, uv, face, s, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, curve, SNAPPED_FLOOR,
-            max(rounds // 12, 1), held_floor=SNAPPED_FLOOR, guard=guard,
+            max(rounds // 12, 1), held_floor=SNAPPED_FLOOR,
         )
     if regular_rounds > 0:
         # The snapped vertices and their neighbours, which shape the pockets the snapping
         # followed, stay.
         held = snapped | ((A @ snapped) > 0)
         raise_regular_fraction(
-            X, uv, face, s, Fo, A, VF, bnd, ~pinned & ~held, V, F, disk_uv, vertex_faces, curve, regular_rounds,
-            guard=guard,
+            X, uv, face, s, Fo, A, VF, bnd, ~pinned & ~held, V, F, disk_uv, vertex_faces, curve, regular_rounds
         )
     return (uv, X, face) if return_faces else (uv, X)
