@@ -190,13 +190,20 @@ def test_cli_warns_when_the_disk_map_loses_precision(tmp_path, capsys):
     """A tube 50 long and of radius 1, closed at its far end: its disk map puts the far
     end within exp(-50) of the centre, below the precision of double numbers (faces of
     zero area, folds). Both commands write their output and warn; a tube 30 long (its far
-    end within 2e-9 of the centre, resolved) gets no warning."""
+    end within 2e-9 of the centre, resolved) gets no warning. Which of the lost faces fold
+    is rounding noise (332 with one MKL, 225 with another); the count lies between one and
+    the faces farther than 36 along the tube (exp(-36) = 2e-16), and both commands count
+    the same map."""
     path = tmp_path / "tube.obj"
-    write_mesh(path, *tube_disk(50))
+    V, F = tube_disk(50)
+    write_mesh(path, V, F)
+    lost = int((V[F, 2].mean(1) > 36).sum())
+    warning = r"qcremesh: warning: the disk map has (\d+) folded or zero-area faces: it squeezes a part of"
     assert main(["param", str(path), "-o", str(tmp_path / "d.obj")]) == 0
-    assert "qcremesh: warning: the disk map has 332 folded or zero-area faces" in capsys.readouterr().err
+    folded = int(re.search(warning, capsys.readouterr().err).group(1))
+    assert 1 <= folded <= lost
     assert main(["remesh", str(path), "-o", str(tmp_path / "r.ply"), "--faces", "1000"]) == 0
-    assert "qcremesh: warning: the disk map has 332 folded or zero-area faces" in capsys.readouterr().err
+    assert int(re.search(warning, capsys.readouterr().err).group(1)) == folded
     assert (tmp_path / "d.obj").is_file() and (tmp_path / "r.ply").is_file()
     write_mesh(path, *tube_disk(30))
     assert main(["remesh", str(path), "-o", str(tmp_path / "r.ply"), "--faces", "1000"]) == 0
