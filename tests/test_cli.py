@@ -191,7 +191,8 @@ def test_cli_warns_when_the_disk_map_loses_precision(tmp_path, capsys):
     end within exp(-50) of the centre, below the precision of double numbers (faces of
     zero area, folds). Both commands write their output and warn; a tube 30 long (its far
     end within 2e-9 of the centre, resolved) gets no warning. Which of the lost faces fold
-    is rounding noise (332 with one MKL, 225 with another); the count lies between one and
+    is rounding noise (332 on an AMD EPYC, 225 on an Intel Xeon, with either sparse solver
+    and the same packages); the count lies between one and
     the faces farther than 36 along the tube (exp(-36) = 2e-16), and both commands count
     the same map."""
     path = tmp_path / "tube.obj"
