@@ -19,7 +19,8 @@ from conftest import (
     torus_mesh,
     tube_disk,
 )
-from qcremesh.cli.main import main
+from qcremesh.cli.main import _warn_departure, main
+from qcremesh.geometry.quality import mesh_quality
 from qcremesh.mesh.io import read_mesh, write_mesh
 from qcremesh.mesh.subdivide import upsample
 
@@ -491,7 +492,7 @@ def test_remesh_cli_whole_keeps_a_crowded_disk_in_one_piece(tmp_path, capsys):
     """A strip 16 times as long as wide: cut into three pieces where its map crowds by
     default (no warning then), remeshed in one piece with --whole, which the crowding
     warning then follows, and the warnings that the output leaves the surface (its
-    crowded ends, by 1.7 mean edge lengths) and passes through itself."""
+    crowded ends, by 1.7 mean edge lengths)."""
     path = tmp_path / "strip.obj"
     write_mesh(path, *strip_disk(16))
     assert main(["remesh", str(path), "-o", str(tmp_path / "cut.ply"), "--faces", "1000"]) == 0
@@ -506,7 +507,21 @@ def test_remesh_cli_whole_keeps_a_crowded_disk_in_one_piece(tmp_path, capsys):
         "qcremesh: warning: the output lies up to 2.38 % of the diagonal from the input, 1.7 times its mean edge "
         "length: it does not follow the surface there" in captured.err
     )
-    assert "qcremesh: warning: 3 output faces pass through others (the input: 0)" in captured.err
+
+
+def test_departure_warnings_name_the_distance_and_the_crossing_faces(capsys):
+    """Two triangles through each other against two flat ones: the output lies 2.07 from
+    the input's far corner (2, 2, 0), 73 % of the diagonal and 2.0 mean edge lengths, and
+    its 2 faces cross where the input's do not."""
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0.2, 0.2, -0.5], [0.3, 0.2, 0.5], [0.25, 0.9, 0], [2, 2, 0]])
+    quality = mesh_quality(V, np.array([[0, 1, 2], [3, 4, 5]]), reference=(V, np.array([[0, 1, 2], [1, 6, 2]])))
+    _warn_departure(quality)
+    err = capsys.readouterr().err
+    assert (
+        "qcremesh: warning: the output lies up to 73.08 % of the diagonal from the input, 2.0 times its mean edge "
+        "length: it does not follow the surface there" in err
+    )
+    assert "qcremesh: warning: 2 output faces pass through others (the input: 0)" in err
 
 
 def test_remesh_cli_says_where_the_weld_failed(tmp_path, capsys):

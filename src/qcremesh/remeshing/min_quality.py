@@ -45,7 +45,7 @@ _PATIENCE = 30
 
 def raise_min_quality(
     X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_uv, vertex_faces, curve, target, rounds,
-    held_floor=QUALITY_FLOOR,
+    held_floor=QUALITY_FLOOR, guard=None,
 ):
     """Pattern search that raises the smallest radius ratio of the faces around the
     vertices of the worst faces, in place.
@@ -100,6 +100,9 @@ def raise_min_quality(
         Maximum number of rounds.
     held_floor : float
         See ``held``.
+    guard : DistanceGuard, optional
+        Refuses the candidates that take an input vertex it watches too far from the
+        output (:class:`~qcremesh.remeshing.guard.DistanceGuard`).
     """
     k = len(X)
     where_bnd = np.full(k, -1)
@@ -127,6 +130,8 @@ def raise_min_quality(
         if len(inner):
             Xc, uvc, fc = tangent_candidates(X, Fo, VF, inner, reach[inner], face, V, F, disk_uv, vertex_faces, _STEPS)
             score = _star_scores(X, uv, Fo, VF, inner, Xc, uvc, face, input_normals)
+            if guard is not None:
+                score[guard.excluded(X, Fo, VF, inner, Xc)] = -np.inf
             j = np.argmax(score, axis=1)
             rows = np.arange(len(inner))
             better = score[rows, j] > qv[inner] + 1e-9
@@ -139,6 +144,8 @@ def raise_min_quality(
             i = where_bnd[outer]
             Xc, uvc, sc = boundary_candidates(s, i, reach[outer], curve, _STEPS)
             score = _star_scores(X, uv, Fo, VF, outer, Xc, uvc, face, input_normals)
+            if guard is not None:
+                score[guard.excluded(X, Fo, VF, outer, Xc)] = -np.inf
             j = np.argmax(score, axis=1)
             rows = np.arange(len(outer))
             better = score[rows, j] > qv[outer] + 1e-9
@@ -153,5 +160,7 @@ def raise_min_quality(
         if len(moved):
             stuck[csr_rows(A, moved)[0]] = False
             quality.update(X, face, moved)
+            if guard is not None:
+                guard.update(X, Fo, VF, moved)
         since = 0 if q.min() > best else since + 1
         best = max(best, q.min())

@@ -93,7 +93,9 @@ def _with_staying(here, candidates):
     return np.concatenate([here[:, None], candidates], axis=1)
 
 
-def raise_regular_fraction(X, uv, face, s, Fo, A, VF, bnd, movable, V, F, disk_uv, vertex_faces, curve, rounds):
+def raise_regular_fraction(
+    X, uv, face, s, Fo, A, VF, bnd, movable, V, F, disk_uv, vertex_faces, curve, rounds, guard=None
+):
     """Pattern search that raises the number of faces with a radius ratio of at least
     0.9, in place (see the module documentation).
 
@@ -135,6 +137,9 @@ def raise_regular_fraction(X, uv, face, s, Fo, A, VF, bnd, movable, V, F, disk_u
         The input boundary.
     rounds : int
         Maximum number of rounds.
+    guard : DistanceGuard, optional
+        Refuses the candidates that take an input vertex it watches too far from the
+        output (:class:`~qcremesh.remeshing.guard.DistanceGuard`).
     """
     k = len(X)
     where_bnd = np.full(k, -1)
@@ -156,7 +161,8 @@ def raise_regular_fraction(X, uv, face, s, Fo, A, VF, bnd, movable, V, F, disk_u
                 X, Fo, VF, inner, reach[~on_bnd], face, V, F, disk_uv, vertex_faces, _STEPS
             )
             Xc, uvc, fc = _with_staying(X[inner], Xc), _with_staying(uv[inner], uvc), _with_staying(face[inner], fc)
-            j, ok = _best_candidates(X, uv, Fo, VF, inner, Xc, uvc, face, input_normals)
+            excluded = None if guard is None else guard.excluded(X, Fo, VF, inner, Xc)
+            j, ok = _best_candidates(X, uv, Fo, VF, inner, Xc, uvc, face, input_normals, excluded)
             rows = np.flatnonzero(ok)
             X[inner[rows]], uv[inner[rows]], face[inner[rows]] = Xc[rows, j[rows]], uvc[rows, j[rows]], fc[rows, j[rows]]
             better[~on_bnd] = ok
@@ -166,7 +172,10 @@ def raise_regular_fraction(X, uv, face, s, Fo, A, VF, bnd, movable, V, F, disk_u
             Xc, uvc, sc = _with_staying(X[outer], Xc), _with_staying(uv[outer], uvc), _with_staying(s[i], sc)
             # Nor does a slide take the output boundary farther from the input's.
             far = boundary_deviation(s, i, Xc, sc, X[bnd], curve)
-            j, ok = _best_candidates(X, uv, Fo, VF, outer, Xc, uvc, face, input_normals, far > far[:, :1])
+            excluded = far > far[:, :1]
+            if guard is not None:
+                excluded |= guard.excluded(X, Fo, VF, outer, Xc)
+            j, ok = _best_candidates(X, uv, Fo, VF, outer, Xc, uvc, face, input_normals, excluded)
             rows = np.flatnonzero(ok)
             X[outer[rows]], uv[outer[rows]], s[i[rows]] = Xc[rows, j[rows]], uvc[rows, j[rows]], sc[rows, j[rows]]
             better[on_bnd] = ok
@@ -175,3 +184,5 @@ def raise_regular_fraction(X, uv, face, s, Fo, A, VF, bnd, movable, V, F, disk_u
         if len(moved):
             stuck[csr_rows(A, moved)[0]] = False
             quality.update(X, face, moved)
+            if guard is not None:
+                guard.update(X, Fo, VF, moved)

@@ -39,6 +39,7 @@ from ..geometry.threads import query_workers
 from ..geometry.vectors import norm
 from ..mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
 from .compiled import smooth_targets_kernel
+from .guard import DistanceGuard
 from .min_quality import QUALITY_FLOOR, raise_min_quality
 from .onsurface import BoundaryCurve, closest_point_near, csr_rows
 from .regularize import raise_regular_fraction
@@ -378,19 +379,26 @@ def relax_on_surface(
                 X, uv, face, s, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, curve, min_quality,
                 max(rounds // 12, 1),
             )
-    if min_quality > 0 and rounds > 0 and radius_ratio(X, Fo).min() < SNAPPED_FLOOR:
+    last_search = min_quality > 0 and rounds > 0 and radius_ratio(X, Fo).min() < SNAPPED_FLOOR
+    # The last two searches keep the input vertices the snapping reached within its reach
+    # (the snapping guards its own moves the same way).
+    guard = None
+    if snap > 0 and (last_search or regular_rounds > 0):
+        guard = DistanceGuard(X, Fo, VF, V, snap * _edge_lengths(X, E).mean())
+    if last_search:
         # The snapping leaves faces down to QUALITY_FLOOR around the vertices it moved into
         # pockets, and held there they stay; a short search in which they may move again to
         # mend a face below SNAPPED_FLOOR lifts the worst of them.
         raise_min_quality(
             X, uv, face, s, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, curve, SNAPPED_FLOOR,
-            max(rounds // 12, 1), held_floor=SNAPPED_FLOOR,
+            max(rounds // 12, 1), held_floor=SNAPPED_FLOOR, guard=guard,
         )
     if regular_rounds > 0:
         # The snapped vertices and their neighbours, which shape the pockets the snapping
         # followed, stay.
         held = snapped | ((A @ snapped) > 0)
         raise_regular_fraction(
-            X, uv, face, s, Fo, A, VF, bnd, ~pinned & ~held, V, F, disk_uv, vertex_faces, curve, regular_rounds
+            X, uv, face, s, Fo, A, VF, bnd, ~pinned & ~held, V, F, disk_uv, vertex_faces, curve, regular_rounds,
+            guard=guard,
         )
     return (uv, X, face) if return_faces else (uv, X)
