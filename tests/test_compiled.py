@@ -162,3 +162,18 @@ def test_grid_distances_are_the_search_of_balls_ones_to_the_last_bit(monkeypatch
     big = np.r_[flat, [[0.0, 0.0, 5.0], [50.0, 0.0, 5.0], [0.0, 50.0, 5.0]]]
     T2 = np.r_[T, [[len(flat), len(flat) + 1, len(flat) + 2]]]
     np.testing.assert_array_equal(distance._distance_to_mesh(Q, big, T2), distance._nearest_face(Q, big, T2)[0])
+
+
+def test_point_face_distances_are_the_same_on_either_path(monkeypatch):
+    """Pairs of points and faces of a real scan, in any order and with repeats: the
+    distances of point_face_distances compiled and in NumPy are those of
+    point_triangle_distance, bit for bit."""
+    V, F = read_mesh(DATA / "human_face.obj")
+    rng = np.random.default_rng(7)
+    P = V[rng.integers(0, len(V), 3000)] + rng.normal(0.0, 1e-3, (3000, 3))
+    i, j = rng.integers(0, len(P), 20000), rng.integers(0, len(F), 20000)
+    expected = point_triangle_distance(P[i], *V[F[j]].transpose(1, 0, 2))[0]
+    np.testing.assert_array_equal(distance.point_face_distances(P, V, F, i, j), expected)
+    monkeypatch.setattr(geometry_compiled, "_state", False)
+    assert pair_distances_kernel() is None
+    np.testing.assert_array_equal(distance.point_face_distances(P, V, F, i, j), expected)

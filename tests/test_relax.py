@@ -10,7 +10,7 @@ from qcremesh.geometry.quality import radius_ratio
 from qcremesh.mesh.subdivide import upsample
 from qcremesh.mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
 from qcremesh.remeshing.min_quality import raise_min_quality
-from qcremesh.remeshing.onsurface import BoundaryCurve, closest_point_near
+from qcremesh.remeshing.onsurface import BoundaryCurve, closest_point_near, nearest_per_owner
 from qcremesh.remeshing import relax
 from qcremesh.remeshing.regularize import GOOD_QUALITY, raise_regular_fraction
 from qcremesh.remeshing.relax import relax_on_surface
@@ -350,3 +350,20 @@ def test_tangent_candidates_of_a_folded_star_stay_at_the_vertex():
         )
     np.testing.assert_allclose(Xc[0], np.broadcast_to(X[0], Xc[0].shape), atol=1e-12)
     np.testing.assert_allclose(uvc[0], np.broadcast_to(X[0, :2], uvc[0].shape), atol=1e-12)
+
+
+def test_nearest_per_owner_grouped_or_not():
+    """The first nearest candidate of each owner, the same whether the candidates come
+    grouped by owner (no sort) or shuffled; an owner with no candidate is skipped."""
+    dist = np.array([0.5, 0.2, 0.2, 0.9, 0.1, 0.4, 0.4])
+    owner = np.array([0, 0, 0, 1, 1, 3, 3])
+    assert nearest_per_owner(dist, owner).tolist() == [1, 4, 5]
+    order = np.random.default_rng(0).permutation(len(dist))
+    d, o = dist[order], owner[order]
+    first = nearest_per_owner(d, o)
+    assert o[first].tolist() == [0, 1, 3]
+    assert d[first].tolist() == [0.2, 0.1, 0.4]
+    assert first[0] == np.flatnonzero((o == 0) & (d == 0.2))[0]
+    assert first[2] == np.flatnonzero(o == 3)[0]
+    with np.errstate(invalid="ignore"):
+        assert nearest_per_owner(np.array([np.nan, 0.3, 0.7]), np.array([0, 0, 1])).tolist() == [1, 2]

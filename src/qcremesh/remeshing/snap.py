@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..geometry.distance import point_triangle_distance
+from ..geometry.distance import point_face_distances
 from ..geometry.locate import interpolate_barycentric
 from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
@@ -53,8 +53,7 @@ def _distance_to_output(P, X, Fo, VF):
     well-shaped mesh; an upper bound otherwise), and that face; (p,), (p,)."""
     nearest = cKDTree(X).query(P)[1]
     star, owner = csr_rows(VF, nearest)
-    T = np.take(X, np.take(Fo, star, axis=0), axis=0)
-    d = point_triangle_distance(P[owner], T[:, 0], T[:, 1], T[:, 2])[0]
+    d = point_face_distances(P, X, Fo, owner, star)
     first = nearest_per_owner(d, owner)
     return d[first], star[first]
 
@@ -183,13 +182,14 @@ def _move_towards(X, uv, face, Fo, VF, target, far, allow, guard, V, F, disk_uv,
                                          vertex_faces, rounds=64)
             new_uv = interpolate_barycentric(F, f, b, disk_uv)
             new_X = interpolate_barycentric(F, f, b, V)
+        refused = guard.excluded(X, Fo, VF, target[todo], new_X[:, None], allow[todo])[:, 0]
         X[target[todo]], uv[target[todo]], face[target[todo]] = new_X, new_uv, f
         trying = ~moved[owner]
         faces = Fo[star[trying]]
         ok_face = (signed_doublearea(uv, faces) > 0) & (radius_ratio(X, faces) >= QUALITY_FLOOR)
         ok = np.bincount(owner[trying], weights=~ok_face, minlength=len(target)) == 0
         ok[moved] = False
-        ok[todo[guard.excluded(X, Fo, VF, target[todo], new_X[:, None], allow[todo])[:, 0]]] = False
+        ok[todo[refused]] = False
         back = todo[~ok[todo]]
         X[target[back]], uv[target[back]], face[target[back]] = old_X[back], old_uv[back], old_face[back]
         if t == 1.0:
