@@ -49,23 +49,12 @@ from ..geometry.distance import point_face_distances
 from ..geometry.operators import vertex_normals
 from ..geometry.threads import query_workers
 from ..geometry.vectors import norm
-from .onsurface import csr_rows, nearest_per_owner
+from .onsurface import csr_rows, star_distance
 
 __all__ = ["DistanceGuard"]
 
 # Input vertices closer to the output than this fraction of the limit are not watched.
 WATCH = 0.1
-
-
-def _star_distance(P, X, Fo, VF, verts):
-    """Distance from each point of ``P`` (p, 3) to the faces around the output vertex of
-    ``verts`` (p,) in the same row, and the nearest of those faces; (p,), (p,)."""
-    if len(P) == 0:
-        return np.zeros(0), np.zeros(0, dtype=np.int64)
-    star, owner = csr_rows(VF, verts)
-    d = point_face_distances(P, X, Fo, owner, star)
-    first = nearest_per_owner(d, owner)
-    return d[first], star[first]
 
 
 def _moved_stars(X, Fo, VF, verts, Xc):
@@ -123,7 +112,7 @@ class DistanceGuard:
         height = np.abs(((V - X[nearest]) * normal[nearest]).sum(1))
         # No farther from the output than from its nearest vertex.
         points = np.flatnonzero((height > WATCH * limit / 2) & (gap > WATCH * limit))
-        distance, face = _star_distance(V[points], X, Fo, VF, nearest[points])
+        distance, face = star_distance(V[points], X, Fo, VF, nearest[points])
         keep = distance > WATCH * limit
         self.points, self.distance, self.face = points[keep], distance[keep], face[keep]
 
@@ -172,7 +161,7 @@ class DistanceGuard:
         if len(point) == 0:
             return
         P = np.repeat(self.V[self.points[point]], 3, axis=0)
-        d, f = _star_distance(P, X, Fo, VF, Fo[self.face[point]].ravel())
+        d, f = star_distance(P, X, Fo, VF, Fo[self.face[point]].ravel())
         d, f = d.reshape(-1, 3), f.reshape(-1, 3)
         best = np.argmin(d, axis=1)
         rows = np.arange(len(point))

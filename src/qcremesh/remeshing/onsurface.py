@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..adaptive.landmarks import boundary_angles, interpolate_on_boundary, smoothed_arc_length
-from ..geometry.distance import point_triangle_distance
+from ..geometry.distance import point_face_distances, point_triangle_distance
 from ..geometry.threads import map_row_chunks
 from ..mesh.topology import boundary_loop
 from .compiled import closest_point_near_kernel
@@ -108,6 +108,23 @@ def nearest_per_owner(dist, owner):
         return hit[np.r_[0, np.flatnonzero(np.diff(owner[hit])) + 1]]
     order = np.lexsort((dist, owner))
     return order[np.r_[0, np.flatnonzero(np.diff(owner[order])) + 1]]
+
+
+def star_distance(P, X, Fo, VF, verts):
+    """Distance from each point of ``P`` (p, 3) to the faces around the output vertex
+    ``verts`` (p,) of the same row, and the nearest of those faces, (p,), (p,). With
+    ``verts`` the nearest output vertices, the distance to the output surface: exact
+    where the nearest face is around that vertex (as on a well-shaped mesh), an upper
+    bound elsewhere.
+
+    ``X`` (k, 3) and ``Fo`` (l, 3) are the output mesh, ``VF`` (k, l) CSR its
+    vertex-face incidence."""
+    if len(P) == 0:
+        return np.zeros(0), np.zeros(0, dtype=np.int64)
+    star, owner = csr_rows(VF, verts)
+    d = point_face_distances(P, X, Fo, owner, star)
+    first = nearest_per_owner(d, owner)
+    return d[first], star[first]
 
 
 def csr_rows(M, rows):

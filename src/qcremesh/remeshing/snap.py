@@ -31,7 +31,6 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..geometry.distance import point_face_distances
 from ..geometry.locate import interpolate_barycentric
 from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
@@ -39,23 +38,12 @@ from ..geometry.threads import query_workers
 from ..geometry.vectors import norm
 from .guard import DistanceGuard
 from .min_quality import QUALITY_FLOOR
-from .onsurface import closest_point_near, csr_rows, independent_first, nearest_per_owner
+from .onsurface import closest_point_near, csr_rows, independent_first, star_distance
 
 __all__ = ["snap_to_far_points"]
 
 # Fractions of the way (in the disk) from an output vertex to the input vertex pulling it.
 FRACTIONS = (1.0, 0.5, 0.25, 0.125)
-
-
-def _distance_to_output(P, X, Fo, VF):
-    """Distance from points to the output surface, measured to the faces around the
-    nearest output vertex (exact where the nearest face is among them, as on a
-    well-shaped mesh; an upper bound otherwise), and that face; (p,), (p,)."""
-    nearest = cKDTree(X).query(P)[1]
-    star, owner = csr_rows(VF, nearest)
-    d = point_face_distances(P, X, Fo, owner, star)
-    first = nearest_per_owner(d, owner)
-    return d[first], star[first]
 
 
 def snap_to_far_points(
@@ -126,7 +114,8 @@ def snap_to_far_points(
     for _ in range(passes):
         if len(candidates) == 0:
             return
-        dist[candidates], near_face = _distance_to_output(V[candidates], X, Fo, VF)
+        P = V[candidates]
+        dist[candidates], near_face = star_distance(P, X, Fo, VF, cKDTree(X).query(P)[1])
         keep = dist[candidates] > reach
         candidates, near_face = candidates[keep], near_face[keep]
         nbr_max = np.maximum.reduceat(dist[A_in.indices], A_in.indptr[:-1])
