@@ -3,11 +3,13 @@
 import numpy as np
 
 from qcremesh import remesh
-from qcremesh.geometry.distance import hausdorff_distance
+from qcremesh.geometry.distance import hausdorff_distance, point_triangle_distance
+from qcremesh.geometry.locate import locate_points
 from qcremesh.geometry.quality import radius_ratio
 from qcremesh.mesh.io import read_mesh
 from qcremesh.mesh.topology import vertex_face_incidence
 from qcremesh.remeshing.guard import DistanceGuard
+from qcremesh.remeshing.snap import _move_towards
 
 from conftest import DATA
 
@@ -79,3 +81,27 @@ def test_nothing_to_watch_on_a_plane():
     assert not guard.excluded(X, Fo, VF, np.array([0]), Xc).any()
     guard.update(X, Fo, VF, np.array([0]))
     assert len(guard.points) == 0
+
+
+def test_the_snapping_stops_short_of_exposing_the_pit():
+    """The pit's centre vertex pulled towards the inner ring at (0.2, 0, 0), which is not
+    far from the output (no allowance): all the way would leave the pit's bottom about
+    0.9 from the output; with the limit 0.6 the vertex goes only part of the way, the
+    bottom staying within 0.6; with the limit 10 it goes all the way."""
+    V, F, X, Fo = pit()
+    VF = vertex_face_incidence(Fo, len(X))
+    disk_uv, vertex_faces = V[:, :2], vertex_face_incidence(F, len(V))
+    face = locate_points(disk_uv, F, X[:, :2])[0]
+    for limit, all_the_way in ((0.6, False), (10.0, True)):
+        Xt, uv, ft = X.copy(), X[:, :2].copy(), face.copy()
+        guard = DistanceGuard(Xt, Fo, VF, V, limit)
+        moved, whole = _move_towards(
+            Xt, uv, ft, Fo, VF, np.array([0]), np.array([1]), np.zeros(1), guard, V, F, disk_uv, vertex_faces
+        )
+        assert moved[0] and whole[0] == all_the_way
+        bottom = point_triangle_distance(V[[0] * len(Fo)], *Xt[Fo].transpose(1, 0, 2))[0].min()
+        if all_the_way:
+            np.testing.assert_array_equal(Xt[0], V[1])
+            assert bottom > 0.85
+        else:
+            assert 0.51 < bottom <= 0.6
