@@ -300,10 +300,15 @@ def test_remesh_cli_edge_length(tmp_path, capsys):
 
 
 def test_remesh_cli_teichmuller_iterations(tmp_path, capsys):
-    """5 QC iterations by default, which stop before the convergence test and say so;
-    more run the map to it."""
+    """5 QC iterations by default, which stop before the convergence test and say why no
+    more are needed (the relaxation follows); without the relaxation, that more would
+    converge; more run the map to it."""
     out = tmp_path / "t.ply"
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", "2000"]) == 0
+    assert re.search(r"Teichmueller map: k = [\d.]+ after 5 iterations \(stopped before converging: the relaxation "
+                     r"finishes the mesh, and more iterations leave its radius ratios about as they are\), 0 folded "
+                     r"faces", capsys.readouterr().out)
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", "2000", "--relax", "0"]) == 0
     assert re.search(r"Teichmueller map: k = [\d.]+ after 5 iterations \(not converged: --teichmuller-iterations for "
                      r"more\), 0 folded faces", capsys.readouterr().out)
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", "2000",

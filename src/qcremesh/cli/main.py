@@ -502,10 +502,18 @@ def _remesh(args, out):
         ) or "planned"
         print(f"sizing ({given}): edges planned down to {st['sizing_min_ratio']:.2f} of the longest", file=out)
     if "teichmuller_k" in st:
+        if st["teichmuller_converged"]:
+            stopped = ""
+        elif args.relax > 0:
+            stopped = (
+                " (stopped before converging: the relaxation finishes the mesh, and more iterations leave its"
+                " radius ratios about as they are)"
+            )
+        else:
+            stopped = " (not converged: --teichmuller-iterations for more)"
         print(
             f"Teichmueller map: k = {st['teichmuller_k']:.4f} after {st['teichmuller_iterations']} iterations"
-            f"{'' if st['teichmuller_converged'] else ' (not converged: --teichmuller-iterations for more)'}, "
-            f"{st['teichmuller_folded_faces']} folded faces",
+            f"{stopped}, {st['teichmuller_folded_faces']} folded faces",
             file=out,
         )
     if "cvt_uniformity" in st:
