@@ -90,6 +90,9 @@ class DistanceGuard:
     limit : float
         Distance from the output beyond which no move takes a watched input vertex (or,
         where it is already beyond, no farther than it is).
+    query : tuple of (n,) float and (n,) int, optional
+        The distance of each input vertex to its nearest output vertex and that vertex,
+        ``cKDTree(X).query(V)``, where the caller has it already.
 
     Attributes
     ----------
@@ -105,9 +108,9 @@ class DistanceGuard:
         Their nearest output faces.
     """
 
-    def __init__(self, X, Fo, VF, V, limit):
+    def __init__(self, X, Fo, VF, V, limit, query=None):
         self.V, self.limit = V, limit
-        gap, nearest = cKDTree(X).query(V, workers=query_workers(len(V)))
+        gap, nearest = cKDTree(X).query(V, workers=query_workers(len(V))) if query is None else query
         normal = vertex_normals(X, Fo)
         height = np.abs(((V - X[nearest]) * normal[nearest]).sum(1))
         # No farther from the output than from its nearest vertex.

@@ -105,10 +105,11 @@ def snap_to_far_points(
     # Input vertices within reach of an output vertex are within reach of the output.
     # Only the others are measured, in every pass (one near a vertex that moves away is
     # not measured again: its other neighbours stay).
-    candidates = np.flatnonzero(cKDTree(X).query(V, workers=query_workers(len(V)))[0] > reach)
+    query = cKDTree(X).query(V, workers=query_workers(len(V)))
+    candidates = np.flatnonzero(query[0] > reach)
     if len(candidates) == 0:
         return
-    guard = DistanceGuard(X, Fo, VF, V, reach)
+    guard = DistanceGuard(X, Fo, VF, V, reach, query)
     dist = np.zeros(len(V))
     failed = np.zeros(0, dtype=np.int64)  # (far point, vertex) pairs that did not move, as far * k + vertex
     for _ in range(passes):
