@@ -52,6 +52,18 @@ def grid_disk(k=8, jitter=0.0, seed=0):
     return uv, F
 
 
+def grid_cells(cells):
+    """Unit grid cells (k, 2) of integer corners, each split into two counter-clockwise
+    triangles along the same diagonal, as a range map is triangulated: (V (n, 3) with
+    z = 0, F)."""
+    cells = np.asarray(cells)
+    corners = np.concatenate([cells, cells + [1, 0], cells + [1, 1], cells + [0, 1]])
+    points, index = np.unique(corners, axis=0, return_inverse=True)
+    a, b, c, d = index.reshape(4, -1)
+    F = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
+    return np.column_stack([points, np.zeros(len(points))]).astype(np.float64), F
+
+
 def strip_disk(length, k=10, seed=0):
     """A strip [0, length] x [0, 1] of k x (k length) jittered grid cells, two triangles
     each, bent along its length (z = 0.3 sin x): a disk whose conformal map to the unit

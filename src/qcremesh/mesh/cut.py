@@ -22,6 +22,7 @@ from .topology import (
 
 __all__ = [
     "cut_along_edges",
+    "chord_across",
     "cut_to_disk",
     "edge_paths",
     "path_edges",
@@ -93,6 +94,44 @@ def paths_across(V, F, ends):
         blocked[path] = True
         paths.append(path)
     return paths
+
+
+def chord_across(F, loop, source, target):
+    """The interior edge of a disk whose two ends lie on the boundary run from ``source``
+    to ``target`` (both on the boundary ``loop``, the run in its order) and that cuts off
+    the most of that run: (2,) int64, its ends in the loop's order, or None where the run
+    has no such chord.
+
+    Where a strip one triangle wide runs across a disk's boundary (a scan's border),
+    no path through interior vertices (:func:`paths_across`) crosses it, but each of its
+    rungs, an edge between its two sides, cuts the disk in two.
+
+    Parameters
+    ----------
+    F : (m, 3) int
+        A disk.
+    loop : (b,) int
+        Its boundary loop.
+    source, target : int
+        Vertices of ``loop``.
+    """
+    loop = np.asarray(loop, dtype=np.int64)
+    b = len(loop)
+    at = np.full(int(max(F.max(), loop.max())) + 1, -1)
+    at[loop] = np.arange(b)
+    run = (at[target] - at[source]) % b
+    H = half_edges(F)
+    i, _ = twin_half_edges(F)
+    E = H[i]
+    # where along the run each end lies, -1 off it
+    along = np.where(at[E] >= 0, (at[E] - at[source]) % b, -1)
+    along[along > run] = -1
+    first, last = along.min(1), along.max(1)
+    cut_off = np.where(first >= 0, last - first, 0)
+    if cut_off.max(initial=0) < 2:
+        return None
+    best = np.argmax(cut_off)
+    return E[best][np.argsort(along[best])]
 
 
 def path_edges(paths):

@@ -11,7 +11,7 @@ from scipy.sparse.csgraph import connected_components as graph_components
 from scipy.spatial import cKDTree
 
 from ..geometry.operators import doublearea
-from ..mesh.cut import cut_along_edges, edge_paths, path_edges, paths_across, paths_to_boundary
+from ..mesh.cut import chord_across, cut_along_edges, edge_paths, path_edges, paths_across, paths_to_boundary
 from ..mesh.topology import boundary_edges, boundary_loops, connected_components, euler_characteristic
 from ..mesh.validate import MeshError
 from ..param.crowding import crowded_arcs
@@ -73,9 +73,14 @@ def crowded_cuts(V, F, dm, faces):
     """Paths across the disk map ``dm``'s crowded boundary runs (:func:`crowded_ends` for
     the output edge length of ``faces`` faces), each from the boundary vertex before a run
     to the one after it through interior vertices
-    (:func:`qcremesh.mesh.cut.paths_across`); [] where there is none."""
+    (:func:`qcremesh.mesh.cut.paths_across`), or, where no such path joins them (a neck
+    one face wide), the chord that cuts off the most of the run
+    (:func:`qcremesh.mesh.cut.chord_across`); [] where there is none."""
     edge = output_edge_length(V, F, faces)
-    return [p for p in paths_across(V, F, crowded_ends(V, F, dm, edge)) if p is not None]
+    ends = crowded_ends(V, F, dm, edge)
+    paths = paths_across(V, F, ends)
+    paths = [chord_across(F, dm.boundary, *e) if p is None else p for p, e in zip(paths, ends)]
+    return [p for p in paths if p is not None]
 
 
 def crease_cuts(V, F, sharp, paths, faces):

@@ -82,6 +82,8 @@ TRIM_REACH = 3.0
 
 # Fewest faces of a piece so cut off (else its path is not cut).
 MIN_PIECE_FACES = 16
+# Most rounds of cuts across the pieces that hold slivers (see _recut_at_slivers).
+RECUT_ROUNDS = 3
 
 # A disk whose map is far from conformal (mean |mu| above COARSE_MAP_MU) and that has more
 # than COARSE_SHARE of its area in faces with an edge longer than LONG_EDGE_RATIO output
@@ -214,15 +216,17 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
     (:func:`qcremesh.mesh.cut.weld_along_paths`, every level; a coarse level that does
     not weld into a disk is dropped). A path that would cut off a piece of fewer than
     MIN_PIECE_FACES faces is not cut; nor, for the crowded cuts (``name`` "crowded"), one
-    that would cut off a piece without an interior vertex, or planned at fewer levels
-    than one below the largest piece (than ``min_levels`` where given; None where a piece
-    then takes fewer)
+    that would cut off a piece with an interior vertex planned at fewer levels than one
+    below the largest piece (than ``min_levels`` where given; None where a piece then
+    takes fewer)
     (:func:`~qcremesh.remeshing.disk_remesh.planned_levels`; every piece would take them:
     Hand1.off's cut disk at half its face count, two pieces of a few hundred faces at no
     level, took 11.9 s instead of 5.3 s, mean q 0.966 instead of 0.987). The
     creases' cuts keep such pieces (a mesa whose top is a sixth of its area lost its
     rim's crease to the level rule, Hausdorff 1.3 %; a step's steep band one face wide,
-    a strip, lost both its creases), and a strip is split 1-to-4 first. Where a piece is
+    a strip, lost both its creases), and a strip (a piece without an interior vertex, as
+    a neck one face wide that a crowded cut crosses at a chord gives) is split 1-to-4
+    first. Where a piece is
     then not a disk (a crease's closed loop whose join to the boundary went with a small
     piece), None.
     Joined as :func:`join_pieces` with ``stats[name + "_cuts"]`` (the paths cut) and
@@ -252,7 +256,7 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
             pieces.append((V_cut[used], local, share, np.flatnonzero(ends[used]), piece_data,
                            None if cut_density is None else cut_density[used]))
             inner.append(not on_boundary[used].all())
-            if share < MIN_PIECE_FACES or (name == "crowded" and not inner[-1]):
+            if share < MIN_PIECE_FACES:
                 small.append(members[-1])
         # the levels each piece with an interior vertex plans (a strip is split first and
         # plans its own)
@@ -264,11 +268,11 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
             # Pieces planned at fewer levels than one below the largest's (which all
             # pieces would then take) are not cut off.
             least = planned[int(np.argmax([piece[2] for piece in pieces]))] - 1 if min_levels is None else min_levels
-            small = [vertices for vertices, level in zip(members, planned) if level < least]
+            small = [vertices for vertices, level in zip(members, planned) if level is not None and level < least]
         if not small:
             break
-        # The paths that cut off a piece too small, without an interior vertex or (with
-        # the level rule) planned at too few levels go.
+        # The paths that cut off a piece too small or (with the level rule) planned at too
+        # few levels go.
         kept = [p for p in paths if not any(np.isin(p[[0, -1]], u).all() for u in small)]
         if len(kept) == len(paths):
             return None
@@ -331,31 +335,70 @@ def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, optio
     has faces below QUALITY_FLOOR, the pieces holding them are cut again where their own
     maps crowd (:func:`~qcremesh.remeshing.cut_paths.pieces_crowded_cuts`: cutting off a
     part changes the map of what is left) and the remesh along all the paths, where its
-    smallest radius ratio is larger (``stats["crowded_recut"]`` says which, where tried;
-    the times are of both). face-YH.off at half its face count: a flap of its scan's
-    border, 0.5 % of the area of the largest piece, that piece's map crushed to 1e-10 of
-    its area on the surface, had no output vertex inside, a fan of slivers (min radius
-    ratio 0.002, Hausdorff distance 1.31 % of the diagonal); cut off, 0.012 and 0.23 %.
-    ``corners_of(paths)`` gives the corners of the pieces along ``paths``."""
-    q = radius_ratio(result.V, result.F)
-    slivers = q < QUALITY_FLOOR
-    if not slivers.any():
-        return result
+    smallest radius ratio is larger; and so on, up to RECUT_ROUNDS rounds, while each
+    raises it (``stats["crowded_recut"]``, where tried: the rounds kept; the times are of
+    all). face-YH.off at half its face count: a flap of its scan's border, 0.5 % of the
+    area of the largest piece, that piece's map crushed to 1e-10 of its area on the
+    surface, had no output vertex inside, a fan of slivers (min radius ratio 0.002,
+    Hausdorff distance 1.31 % of the diagonal); cut off, 0.012 and 0.23 % (a second round
+    is not better). A range scan's border (pymeshlab's sample face000.ply, the part above
+    y = 60): a blob behind a neck one to two faces wide, cut off, left the neck crowded in
+    what was left: three rounds at its face count, min q 0.025 -> 0.350, Hausdorff
+    distance 2.96 -> 0.37 %. ``corners_of(paths)`` gives the corners of the pieces along
+    ``paths``."""
     cut = path_edges(paths)
-    more = pieces_crowded_cuts(V, F, cut, faces, where=result.V[result.F[slivers]].mean(1))
-    if not more:
+    recuts = None
+    for _ in range(RECUT_ROUNDS):
+        q = radius_ratio(result.V, result.F)
+        slivers = q < QUALITY_FLOOR
+        if not slivers.any():
+            break
+        more = pieces_crowded_cuts(V, F, cut, faces, where=result.V[result.F[slivers]].mean(1))
+        if not more:
+            break
+        more_cut = np.concatenate([cut, path_edges(more)])
+        paths = edge_paths(more_cut, len(V), stops=boundary_edges(F).ravel())
+        again = _remesh_along_paths(
+            V, F, paths, faces, corners_of(paths), sizing, data, stats, options, min_levels=result.stats["levels"]
+        )
+        better = again is not None and bool(radius_ratio(again.V, again.F).min() > q.min())
+        kept, other = (again, result) if better else (result, again)
+        if other is not None:
+            for stage, seconds in other.times.items():
+                kept.times[stage] = kept.times.get(stage, 0.0) + seconds
+        result = kept
+        recuts = (recuts or 0) + better
+        if not better:
+            break
+        cut = more_cut
+    if recuts is not None:
+        result.stats["crowded_recut"] = recuts
+    return result
+
+
+def _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, stats, options, result):
+    """``result``, the remesh of the disk (V, F) whole, or, where it has faces below
+    QUALITY_FLOOR and its disk map ``dm`` crowds runs of its boundary (:func:`crowded_cuts`)
+    though not enough of it to be cut at once (CROWDED_SHARE), the remesh along those
+    cuts (:func:`_remesh_along_paths` and :func:`_recut_at_slivers`), where its smallest
+    radius ratio is larger (``stats["crowded_after_slivers"]`` says which, where tried;
+    the times are of both). A scan's border with a protrusion behind a neck one or two
+    faces wide: the map crushes what lies beyond, a fan of slivers there."""
+    q = radius_ratio(result.V, result.F)
+    if q.min() >= QUALITY_FLOOR:
         return result
-    cut = np.concatenate([cut, path_edges(more)])
-    paths = edge_paths(cut, len(V), stops=boundary_edges(F).ravel())
-    again = _remesh_along_paths(
-        V, F, paths, faces, corners_of(paths), sizing, data, stats, options, min_levels=result.stats["levels"]
-    )
+    paths = crowded_cuts(V, F, dm, faces)
+    if not paths:
+        return result
+    again = _remesh_along_paths(V, F, paths, faces, corners_of(paths), sizing, data, stats, options)
+    if again is not None:
+        again = _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, again)
     better = again is not None and bool(radius_ratio(again.V, again.F).min() > q.min())
     kept, other = (again, result) if better else (result, again)
     if other is not None:
         for stage, seconds in other.times.items():
             kept.times[stage] = kept.times.get(stage, 0.0) + seconds
-    kept.stats["crowded_recut"] = better
+    kept.stats["crowded_after_slivers"] = better
     return kept
 
 
@@ -785,9 +828,13 @@ def remesh(
             return result
         if name == "crease":
             stats["creases_kept"] = False
-    return remesh_disk(
+    before = dict(stats)
+    result = remesh_disk(
         V, F, dm, faces, levels=levels, method=method, seed=seed, corner_angle=corner_angle,
         cvt_iterations=cvt_iterations, relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries,
         sizing=sizing, fixed_boundary=fixed_boundary, corner_at=corner_at, boundary_edge_length=boundary_edge_length,
         data=data, stats=stats, clock=clock,
     )
+    if attempts or boundary_edge_length is not None or relax == 0 or method == "uniform" or not cut_crowded:
+        return result
+    return _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, before, options, result)
