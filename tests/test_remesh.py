@@ -195,6 +195,18 @@ def test_min_quality_at_the_nostrils():
         assert radius_ratio(r.V, r.F).min() >= 0.3
 
 
+def test_no_ear_on_a_straight_border_of_a_piece_without_interior_vertices():
+    """A rectangle 1 x 0.3 of two faces asked for four: its output has no interior vertex,
+    and the triangulation of its six boundary vertices had an ear at a vertex in the
+    middle of a long side (three vertices on a line, radius ratio 0). The faces below
+    the floor are flipped where that raises the smaller radius ratio of the two."""
+    V = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 0.3, 0.0], [0.0, 0.3, 0.0]])
+    r = remesh(V, np.array([[0, 1, 2], [0, 2, 3]]), 4)
+    assert len(r.F) == 4 and r.stats["sliver_flips"] >= 1
+    assert radius_ratio(r.V, r.F).min() >= 0.5
+    assert euler_characteristic(r.F) == 1 and len(boundary_loops(r.F)) == 1
+
+
 def test_remesh_refuses_indices_that_are_not_whole_numbers():
     """numpy would truncate them to other faces; whole-number floats are taken."""
     uv, F = grid_disk(8)

@@ -330,6 +330,13 @@ def _joined_paths(paths, border):
         paths = [p for p, ok in zip(paths, joined) if ok]
 
 
+def _fewer_slivers(q, than):
+    """Whether radius ratios ``q`` have fewer below QUALITY_FLOOR than ``than``, or as
+    many and a larger smallest one."""
+    a, b = np.count_nonzero(q < QUALITY_FLOOR), np.count_nonzero(than < QUALITY_FLOOR)
+    return bool(a < b or (a == b and q.min() > than.min()))
+
+
 def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, result):
     """``result`` of :func:`_remesh_along_paths` along the crowded ``paths``, or, where it
     has faces below QUALITY_FLOOR, the pieces holding them are cut again where their own
@@ -361,7 +368,7 @@ def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, optio
         again = _remesh_along_paths(
             V, F, paths, faces, corners_of(paths), sizing, data, stats, options, min_levels=result.stats["levels"]
         )
-        better = again is not None and bool(radius_ratio(again.V, again.F).min() > q.min())
+        better = again is not None and _fewer_slivers(radius_ratio(again.V, again.F), q)
         kept, other = (again, result) if better else (result, again)
         if other is not None:
             for stage, seconds in other.times.items():
@@ -393,7 +400,7 @@ def _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, stats, options, r
     again = _remesh_along_paths(V, F, paths, faces, corners_of(paths), sizing, data, stats, options)
     if again is not None:
         again = _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, again)
-    better = again is not None and bool(radius_ratio(again.V, again.F).min() > q.min())
+    better = again is not None and _fewer_slivers(radius_ratio(again.V, again.F), q)
     kept, other = (again, result) if better else (result, again)
     if other is not None:
         for stage, seconds in other.times.items():
