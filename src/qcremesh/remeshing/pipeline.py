@@ -330,28 +330,38 @@ def _joined_paths(paths, border):
         paths = [p for p, ok in zip(paths, joined) if ok]
 
 
-def _fewer_slivers(q, than):
-    """Whether radius ratios ``q`` have fewer below QUALITY_FLOOR than ``than``, or as
-    many and a larger smallest one."""
-    a, b = np.count_nonzero(q < QUALITY_FLOOR), np.count_nonzero(than < QUALITY_FLOOR)
-    return bool(a < b or (a == b and q.min() > than.min()))
+def _fewer_slivers(result, q, again):
+    """``again`` (a RemeshResult or None) where it has fewer faces below QUALITY_FLOOR
+    than ``result`` (whose radius ratios are ``q``), or as many and a larger smallest
+    radius ratio, else ``result``, with the times of both; and whether ``again`` was kept."""
+    better = False
+    if again is not None:
+        q_again = radius_ratio(again.V, again.F)
+        a, b = np.count_nonzero(q_again < QUALITY_FLOOR), np.count_nonzero(q < QUALITY_FLOOR)
+        better = bool(a < b or (a == b and q_again.min() > q.min()))
+    kept, other = (again, result) if better else (result, again)
+    if other is not None:
+        for stage, seconds in other.times.items():
+            kept.times[stage] = kept.times.get(stage, 0.0) + seconds
+    return kept, better
 
 
 def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, result):
     """``result`` of :func:`_remesh_along_paths` along the crowded ``paths``, or, where it
     has faces below QUALITY_FLOOR, the pieces holding them are cut again where their own
     maps crowd (:func:`~qcremesh.remeshing.cut_paths.pieces_crowded_cuts`: cutting off a
-    part changes the map of what is left) and the remesh along all the paths, where its
-    smallest radius ratio is larger; and so on, up to RECUT_ROUNDS rounds, while each
-    raises it (``stats["crowded_recut"]``, where tried: the rounds kept; the times are of
-    all). face-YH.off at half its face count: a flap of its scan's border, 0.5 % of the
-    area of the largest piece, that piece's map crushed to 1e-10 of its area on the
-    surface, had no output vertex inside, a fan of slivers (min radius ratio 0.002,
-    Hausdorff distance 1.31 % of the diagonal); cut off, 0.012 and 0.23 % (a second round
-    is not better). A range scan's border (pymeshlab's sample face000.ply, the part above
-    y = 60): a blob behind a neck one to two faces wide, cut off, left the neck crowded in
-    what was left: three rounds at its face count, min q 0.025 -> 0.350, Hausdorff
-    distance 2.96 -> 0.37 %. ``corners_of(paths)`` gives the corners of the pieces along
+    part changes the map of what is left) and the remesh along all the paths kept where
+    it has fewer faces below the floor (or as many and a larger smallest radius ratio,
+    :func:`_fewer_slivers`); and so on, up to RECUT_ROUNDS rounds, while each is kept
+    (``stats["crowded_recut"]``, where tried: the rounds kept; the times are of all).
+    face-YH.off at half its face count: a flap of its scan's border, 0.5 % of the area of
+    the largest piece, that piece's map crushed to 1e-10 of its area on the surface, had
+    no output vertex inside, a fan of slivers (min radius ratio 0.002, Hausdorff distance
+    1.31 % of the diagonal); cut off, 0.012 and 0.23 % (a second round is not kept). A
+    range scan's border (pymeshlab's sample face000.ply, the part above y = 60): a blob
+    behind a neck one to two faces wide, cut off, left the neck crowded in what was left:
+    three rounds at its face count, min q 0.025 -> 0.350, Hausdorff distance 2.96 -> 0.37
+    %. ``corners_of(paths)`` gives the corners of the pieces along
     ``paths``."""
     cut = path_edges(paths)
     recuts = None
@@ -368,12 +378,7 @@ def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, optio
         again = _remesh_along_paths(
             V, F, paths, faces, corners_of(paths), sizing, data, stats, options, min_levels=result.stats["levels"]
         )
-        better = again is not None and _fewer_slivers(radius_ratio(again.V, again.F), q)
-        kept, other = (again, result) if better else (result, again)
-        if other is not None:
-            for stage, seconds in other.times.items():
-                kept.times[stage] = kept.times.get(stage, 0.0) + seconds
-        result = kept
+        result, better = _fewer_slivers(result, q, again)
         recuts = (recuts or 0) + better
         if not better:
             break
@@ -387,10 +392,11 @@ def _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, stats, options, r
     """``result``, the remesh of the disk (V, F) whole, or, where it has faces below
     QUALITY_FLOOR and its disk map ``dm`` crowds runs of its boundary (:func:`crowded_cuts`)
     though not enough of it to be cut at once (CROWDED_SHARE), the remesh along those
-    cuts (:func:`_remesh_along_paths` and :func:`_recut_at_slivers`), where its smallest
-    radius ratio is larger (``stats["crowded_after_slivers"]`` says which, where tried;
-    the times are of both). A scan's border with a protrusion behind a neck one or two
-    faces wide: the map crushes what lies beyond, a fan of slivers there."""
+    cuts (:func:`_remesh_along_paths` and :func:`_recut_at_slivers`), where it has fewer
+    faces below the floor (:func:`_fewer_slivers`; ``stats["crowded_after_slivers"]``
+    says which, where tried; the times are of both). A scan's border with a protrusion
+    behind a neck one or two faces wide: the map crushes what lies beyond, a fan of
+    slivers there."""
     q = radius_ratio(result.V, result.F)
     if q.min() >= QUALITY_FLOOR:
         return result
@@ -400,11 +406,7 @@ def _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, stats, options, r
     again = _remesh_along_paths(V, F, paths, faces, corners_of(paths), sizing, data, stats, options)
     if again is not None:
         again = _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, again)
-    better = again is not None and _fewer_slivers(radius_ratio(again.V, again.F), q)
-    kept, other = (again, result) if better else (result, again)
-    if other is not None:
-        for stage, seconds in other.times.items():
-            kept.times[stage] = kept.times.get(stage, 0.0) + seconds
+    kept, better = _fewer_slivers(result, q, again)
     kept.stats["crowded_after_slivers"] = better
     return kept
 
@@ -835,6 +837,7 @@ def remesh(
             return result
         if name == "crease":
             stats["creases_kept"] = False
+    # (the numbers before the whole disk's remesh, for a remesh along crowded cuts)
     before = dict(stats)
     result = remesh_disk(
         V, F, dm, faces, levels=levels, method=method, seed=seed, corner_angle=corner_angle,
