@@ -543,6 +543,26 @@ def test_crowded_run_behind_a_neck_without_interior_vertices_cut_at_a_chord():
     assert quality["q_min"] >= 0.3 and quality["hausdorff"] <= 0.02
 
 
+def test_rounds_of_recuts_remesh_each_piece_once(monkeypatch):
+    """The rounds of cuts at slivers change only the pieces they cut: the others are
+    taken from the round before, not remeshed again (the same output)."""
+    import qcremesh.remeshing.pipeline as pipeline
+
+    V, F = _peninsula(True, [(4, 2), (4, 1), (4, 4), (4, 1), (5, 5)])
+    calls = []
+    remesh_piece = pipeline.remesh
+
+    def counted(Vk, Fk, faces, **options):
+        if options.get("boundary_edge_length") is not None:
+            calls.append((Vk.tobytes(), Fk.tobytes(), faces, options["levels"]))
+        return remesh_piece(Vk, Fk, faces, **options)
+
+    monkeypatch.setattr(pipeline, "remesh", counted)
+    r = pipeline.remesh(V, F, len(F) // 2)
+    assert r.stats["crowded_recut"] >= 1
+    assert calls and len(calls) == len(set(calls))
+
+
 def test_cut_disk_with_a_sizing_field_welds():
     """Hand1.off at half its face count with a curvature sizing field computed on the
     surface (as remesh(sizing="curvature") now does for a surface it cuts open): its cut

@@ -26,6 +26,8 @@ Figs. 18-20 (d), the default).
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from ..adaptive.sizing import check_sizing, curvature_sizing, hole_sizing, point_sizing
@@ -204,7 +206,9 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     return RemeshResult(Vo, Fo, result.uv, levels, out_data, result.disk_levels, result.mu, stats, result.times)
 
 
-def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, options, name="crowded", min_levels=None):
+def _remesh_along_paths(
+    V, F, paths, faces, corners, sizing, data, stats, options, name="crowded", min_levels=None, done=None
+):
     """:func:`remesh` of a disk cut along ``paths`` (from :func:`crowded_cuts`, where
     its map crowds parts of the boundary, or :func:`crease_cuts`) into pieces, each
     remeshed on its own map with a share of the faces by area (counted times sizing^-2
@@ -230,7 +234,11 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
     then not a disk (a crease's closed loop whose join to the boundary went with a small
     piece), None.
     Joined as :func:`join_pieces` with ``stats[name + "_cuts"]`` (the paths cut) and
-    ``stats[name + "_piece_faces"]``; None where the output does not weld into a disk."""
+    ``stats[name + "_piece_faces"]``; None where the output does not weld into a disk.
+    ``done``, a dict, keeps each piece's remesh by its vertices, faces, share, corners and
+    levels, and a piece found in it is not remeshed again (the rounds of
+    :func:`_recut_at_slivers` change only the pieces they cut; its times are not counted
+    again)."""
     density = None if sizing is None else sizing.max() / sizing
     while True:
         if not paths:
@@ -291,12 +299,18 @@ def _remesh_along_paths(V, F, paths, faces, corners, sizing, data, stats, option
         for k in np.argsort([piece[2] for piece in pieces], kind="stable"):
             Vk, Fk, share, corners, piece_data, dk = pieces[k]
             if results[k] is None or results[k].stats["levels"] > levels:
-                # the piece's field scaled to a largest value of 1: its density to a least of 1
-                scale = 1.0 if dk is None else dk.min()
-                results[k] = remesh(
-                    Vk, Fk, share, fixed_boundary=True, corners=corners, boundary_edge_length=edge / scale,
-                    sizing=None if dk is None else 1.0 / dk, data=piece_data, **dict(options, levels=levels),
-                )
+                key = (members[k].tobytes(), Fk.tobytes(), share, corners.tobytes(), levels)
+                if done is not None and key in done:
+                    results[k] = replace(done[key], times={})
+                else:
+                    # the piece's field scaled to a largest value of 1: its density to a least of 1
+                    scale = 1.0 if dk is None else dk.min()
+                    results[k] = remesh(
+                        Vk, Fk, share, fixed_boundary=True, corners=corners, boundary_edge_length=edge / scale,
+                        sizing=None if dk is None else 1.0 / dk, data=piece_data, **dict(options, levels=levels),
+                    )
+                    if done is not None:
+                        done[key] = results[k]
                 if min_levels is not None and results[k].stats["levels"] < min_levels:
                     return None
         used = [r.stats["levels"] for r in results]
@@ -346,7 +360,7 @@ def _fewer_slivers(result, q, again):
     return kept, better
 
 
-def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, result):
+def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, result, done):
     """``result`` of :func:`_remesh_along_paths` along the crowded ``paths``, or, where it
     has faces below QUALITY_FLOOR, the pieces holding them are cut again where their own
     maps crowd (:func:`~qcremesh.remeshing.cut_paths.pieces_crowded_cuts`: cutting off a
@@ -361,8 +375,8 @@ def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, optio
     range scan's border (pymeshlab's sample face000.ply, the part above y = 60): a blob
     behind a neck one to two faces wide, cut off, left the neck crowded in what was left:
     three rounds at its face count, min q 0.025 -> 0.350, Hausdorff distance 2.96 -> 0.37
-    %. ``corners_of(paths)`` gives the corners of the pieces along
-    ``paths``."""
+    %. ``corners_of(paths)`` gives the corners of the pieces along ``paths``; ``done`` the
+    pieces remeshed so far (see :func:`_remesh_along_paths`)."""
     cut = path_edges(paths)
     recuts = None
     for _ in range(RECUT_ROUNDS):
@@ -376,7 +390,8 @@ def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, optio
         more_cut = np.concatenate([cut, path_edges(more)])
         paths = edge_paths(more_cut, len(V), stops=boundary_edges(F).ravel())
         again = _remesh_along_paths(
-            V, F, paths, faces, corners_of(paths), sizing, data, stats, options, min_levels=result.stats["levels"]
+            V, F, paths, faces, corners_of(paths), sizing, data, stats, options, min_levels=result.stats["levels"],
+            done=done,
         )
         result, better = _fewer_slivers(result, q, again)
         recuts = (recuts or 0) + better
@@ -403,9 +418,10 @@ def _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, stats, options, r
     paths = crowded_cuts(V, F, dm, faces)
     if not paths:
         return result
-    again = _remesh_along_paths(V, F, paths, faces, corners_of(paths), sizing, data, stats, options)
+    done = {}
+    again = _remesh_along_paths(V, F, paths, faces, corners_of(paths), sizing, data, stats, options, done=done)
     if again is not None:
-        again = _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, again)
+        again = _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, again, done)
     kept, better = _fewer_slivers(result, q, again)
     kept.stats["crowded_after_slivers"] = better
     return kept
@@ -820,9 +836,12 @@ def remesh(
             given = np.union1d(given, twins[np.isin(twins, ends).any(axis=1)].ravel())
         return given
 
+    done = {}
     for name, paths in attempts:
         try:
-            result = _remesh_along_paths(V, F, paths, faces, corners_of(paths), sizing, data, stats, options, name)
+            result = _remesh_along_paths(
+                V, F, paths, faces, corners_of(paths), sizing, data, stats, options, name, done=done
+            )
         except ValueError:
             if name != "crease":
                 raise
@@ -831,7 +850,7 @@ def remesh(
             # boundary): remeshed without the creases, as where they do not weld
             result = None
         if result is not None and name == "crowded":
-            result = _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, result)
+            result = _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, result, done)
         if result is not None:
             result.times["parameterize"] = result.times.get("parameterize", 0.0) + clock.times["parameterize"]
             return result
