@@ -117,7 +117,7 @@ def chord_across(F, loop, source, target):
     """
     loop = np.asarray(loop, dtype=np.int64)
     b = len(loop)
-    at = np.full(int(max(F.max(), loop.max())) + 1, -1)
+    at = np.full(int(np.max(F)) + 1, -1)
     at[loop] = np.arange(b)
     run = (at[target] - at[source]) % b
     H = half_edges(F)

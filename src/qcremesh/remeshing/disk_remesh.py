@@ -419,18 +419,13 @@ def _adaptive_mesh(
                 # (an ear of three boundary vertices on a straight border, where the
                 # piece has no interior vertex: a quad of two faces asked for four had
                 # one of radius ratio 1e-27).
-                Fo, flips = flip_for_surface_quality(uv, Fo, Vo, _corners_of(Fo, q < QUALITY_FLOOR, len(uv)))
+                near = np.zeros(len(uv), dtype=bool)
+                near[Fo[q < QUALITY_FLOOR].ravel()] = True
+                Fo, flips = flip_for_surface_quality(uv, Fo, Vo, near)
                 hierarchy = [(uv, Fo)]
                 run.update(sliver_flips=flips)
         clock.stop("relax")
     return uv, Fo, hierarchy, Vo, mu, run
-
-
-def _corners_of(F, faces, n):
-    """Whether each of the n vertices is a corner of one of the ``faces`` (bool (m,))."""
-    corner = np.zeros(n, dtype=bool)
-    corner[F[faces].ravel()] = True
-    return corner
 
 
 def remesh_disk(

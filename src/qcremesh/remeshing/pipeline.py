@@ -347,7 +347,8 @@ def _joined_paths(paths, border):
 def _fewer_slivers(result, q, again):
     """``again`` (a RemeshResult or None) where it has fewer faces below QUALITY_FLOOR
     than ``result`` (whose radius ratios are ``q``), or as many and a larger smallest
-    radius ratio, else ``result``, with the times of both; and whether ``again`` was kept."""
+    radius ratio, else ``result``, with the times of both; its radius ratios; and whether
+    ``again`` was kept."""
     better = False
     if again is not None:
         q_again = radius_ratio(again.V, again.F)
@@ -357,7 +358,7 @@ def _fewer_slivers(result, q, again):
     if other is not None:
         for stage, seconds in other.times.items():
             kept.times[stage] = kept.times.get(stage, 0.0) + seconds
-    return kept, better
+    return kept, q_again if better else q, better
 
 
 def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, result, done):
@@ -379,8 +380,8 @@ def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, optio
     pieces remeshed so far (see :func:`_remesh_along_paths`)."""
     cut = path_edges(paths)
     recuts = None
+    q = radius_ratio(result.V, result.F)
     for _ in range(RECUT_ROUNDS):
-        q = radius_ratio(result.V, result.F)
         slivers = q < QUALITY_FLOOR
         if not slivers.any():
             break
@@ -393,7 +394,7 @@ def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, optio
             V, F, paths, faces, corners_of(paths), sizing, data, stats, options, min_levels=result.stats["levels"],
             done=done,
         )
-        result, better = _fewer_slivers(result, q, again)
+        result, q, better = _fewer_slivers(result, q, again)
         recuts = (recuts or 0) + better
         if not better:
             break
@@ -422,7 +423,7 @@ def _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, stats, options, r
     again = _remesh_along_paths(V, F, paths, faces, corners_of(paths), sizing, data, stats, options, done=done)
     if again is not None:
         again = _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, again, done)
-    kept, better = _fewer_slivers(result, q, again)
+    kept, _, better = _fewer_slivers(result, q, again)
     kept.stats["crowded_after_slivers"] = better
     return kept
 
