@@ -187,6 +187,26 @@ def test_hole_sizing_shortens_the_edges_around_a_small_hole():
     np.testing.assert_array_equal(hole_sizing(V, F, 0.005), np.ones(len(V)))
 
 
+def test_hole_sizing_takes_the_longest_loop_too_where_it_is_short():
+    """An open tube of radius 1 and length 12 (two loops of perimeter about 2 pi) at
+    edges of 2: both loops are shorter than 6 edges and both get P / (6 h) (the longest
+    was left out as the outer border: pyvista's sample airplane.ply's fuselage, its
+    loops of 20 and 8 edges both shorter than 6 output edges at half its face count, did
+    not weld)."""
+    k = 32
+    t = 2 * np.pi * np.arange(k) / k
+    V = np.concatenate([np.column_stack([np.cos(t), np.sin(t), np.full(k, z)]) for z in np.arange(13.0)])
+    a = np.arange(12 * k).reshape(12, k)
+    b = np.roll(a, -1, axis=1)
+    F = np.concatenate([np.column_stack([a.ravel(), b.ravel(), b.ravel() + k]),
+                        np.column_stack([a.ravel(), b.ravel() + k, a.ravel() + k])])
+    s = hole_sizing(V, F, 2.0)
+    perimeter = k * 2 * np.sin(np.pi / k)
+    for loop in boundary_loops(F):
+        np.testing.assert_allclose(s[loop], perimeter / 12, rtol=1e-12)
+    assert np.all(s[np.abs(V[:, 2] - 6) < 1e-9] == 1.0)
+
+
 def test_remesh_gives_a_small_hole_edges_of_its_size():
     """Measured, seeds 0-2 at 2000 faces: 6 edges around the hole of radius 0.02 and min q
     0.670-0.689 with the hole sizing; 4 edges and min q 0.413-0.494 without."""

@@ -198,12 +198,15 @@ def curvature_sizing(
 
 
 def hole_sizing(V, F, edge_length, *, min_edges=6, gradation=0.2):
-    """Relative edge lengths that give every boundary loop but the longest (the holes)
-    at least about ``min_edges`` edges.
+    """Relative edge lengths that give every boundary loop (the holes of a surface that
+    is not a disk, the longest too) at least about ``min_edges`` edges.
 
     A hole of perimeter P shorter than ``min_edges`` planned edges h would get a few
     edges much shorter than those around it (a hole of a scan the size of one edge: four
-    edges of a quarter of it, and slivers), so the edges are shortened towards it:
+    edges of a quarter of it, and slivers), or, where it is the longest loop of a small
+    surface, too few to weld the surface cut open back (pyvista's sample airplane.ply's
+    fuselage at half its face count: a loop of 20 edges got 3), so the edges are
+    shortened towards it:
 
         s(v) = min(1, min over such holes of P / (min_edges h) + gradation d(v) / h),
 
@@ -228,7 +231,7 @@ def hole_sizing(V, F, edge_length, *, min_edges=6, gradation=0.2):
     h = float(edge_length)
     s = np.ones(len(V))
     tree = None
-    for loop in boundary_loops(F)[1:]:
+    for loop in boundary_loops(F):
         P = V[loop]
         perimeter = np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1).sum()
         if perimeter >= min_edges * h:
