@@ -83,7 +83,7 @@ def test_boundary_landmarks_uniform_in_arc_length():
 def test_boundary_landmarks_leave_no_gap_wider_than_a_quarter_turn():
     """The same square, its first side stretched over most of the circle: the 4 corners
     (the landmarks asked for) leave a gap of 300 degrees, which gets 3 more landmarks,
-    evenly spaced in angle."""
+    along the side (one a round, until no gap is wider than 90 degrees)."""
     t = np.linspace(0, 4, 41)[:-1]
     side, f = np.divmod(t, 1)
     corners = np.array([[0, 0], [1, 0], [1, 1], [0, 1]])
@@ -92,8 +92,28 @@ def test_boundary_landmarks_leave_no_gap_wider_than_a_quarter_turn():
     theta = np.r_[np.linspace(0, np.radians(300), 11)[:-1], np.linspace(np.radians(300), 2 * np.pi, 31)[:-1]]
     uv = np.column_stack([np.cos(theta), np.sin(theta)])
     th, is_corner = boundary_landmarks(V, uv, np.arange(40), 4)
-    np.testing.assert_allclose(th, np.radians([0, 75, 150, 225, 300, 320, 340]), atol=1e-12)
     np.testing.assert_array_equal(is_corner, [1, 0, 0, 0, 1, 1, 1])
+    np.testing.assert_allclose(th[[0, 2, 4, 5, 6]], np.radians([0, 150, 300, 320, 340]), atol=1e-12)
+    assert np.diff(np.r_[th, 2 * np.pi]).max() < np.radians(90)
+    # without the smoothing of the arc length at the corners, evenly along the side
+    th, _ = boundary_landmarks(V, uv, np.arange(40), 4, smooth=False)
+    np.testing.assert_allclose(th, np.radians([0, 75, 150, 225, 300, 320, 340]), atol=1e-12)
+
+
+def test_boundary_landmarks_give_the_two_sides_of_a_cut_as_many():
+    """A slit's two sides (the same segment there and back, its ends the corners given),
+    the first stretched over 300 degrees of the circle: both get the landmarks its gaps
+    need, at the same points (added in angle to the first alone, they did not weld)."""
+    x = np.r_[np.arange(21) / 20, 1 - np.arange(1, 20) / 20]
+    V = np.column_stack([x, np.zeros((40, 2))])
+    theta = np.r_[np.linspace(0, np.radians(300), 21)[:-1], np.linspace(np.radians(300), 2 * np.pi, 21)[:-1]]
+    uv = np.column_stack([np.cos(theta), np.sin(theta)])
+    th, is_corner = boundary_landmarks(V, uv, np.arange(40), 4, corners=[0, 20], smooth=False)
+    X = interpolate_on_boundary(boundary_angles(uv, np.arange(40)), V, th)
+    first = th < np.radians(300) - 1e-12
+    np.testing.assert_allclose(X[first, 0], [0, 0.25, 0.5, 0.75], atol=1e-12)
+    np.testing.assert_allclose(X[~first, 0], [1, 0.75, 0.5, 0.25], atol=1e-12)
+    np.testing.assert_array_equal(np.flatnonzero(is_corner), [0, 4])
 
 
 def test_cvt_landmarks_are_uniform_on_surface(face):

@@ -50,6 +50,10 @@ SURFACE_CELL_CANDIDATES = 16
 # vertices on the far side of the circle).
 MAX_LANDMARK_GAP = np.pi / 2
 
+# Rounds in which the pieces of the boundary with a wider gap get one more landmark each
+# (and their twins across a cut as well), before what is left gets landmarks in angle.
+GAP_ROUNDS = 8
+
 # The compiled owner test of Lloyd's iteration (_nearest) compares each sample's distance
 # to its previous owner with that to this many generators nearest to the owner.
 NEIGHBOURS = 8
@@ -241,8 +245,9 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     length over the spacing, rounded, instead of its share of ``count``: two boundaries
     that share a polyline between corners (two meshes remeshed apart and joined along
     it) get the same landmarks there. Where two landmarks are more than
-    ``MAX_LANDMARK_GAP`` apart on the circle, landmarks evenly spaced in angle are added
-    between them.
+    ``MAX_LANDMARK_GAP`` apart on the circle, their piece gets one more landmark (with
+    ``corners``, every piece as long does: the other side of a cut), up to GAP_ROUNDS
+    times; landmarks evenly spaced in angle are then added in the gaps still that wide.
 
     Parameters
     ----------
@@ -280,6 +285,7 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     metric = None if spacing is None else density
     s = _weighted(_arc_length(P), metric)
     scale = s[-1] / max(count, 3) if spacing is None else spacing
+    corners_given = corners
     found = boundary_corners(V, bnd, corner_angle, scale=scale, pieces=corners, density=metric)
     sigma = smoothed_arc_length(P, scale if smooth else 0.0, density)
     if corners is not None and len(corners):
@@ -298,25 +304,29 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
         per_piece = np.maximum(1, np.round(np.round(lengths / total * max(count, 3), 9)).astype(int))
     else:
         per_piece = np.maximum(1, np.round(np.round(lengths / spacing, 9)).astype(int))
-    piece = np.repeat(np.arange(len(starts)), per_piece)
-    rank = np.arange(len(piece)) - np.repeat(np.cumsum(per_piece) - per_piece, per_piece)
-    arc = s0[piece] + lengths[piece] * rank / per_piece[piece]
-    arc = np.mod(arc, total)
-    # smoothed arc length -> angle, linearly within each boundary edge
     t = np.r_[theta_b, theta_b[0] + 2 * np.pi]
-    i = np.clip(np.searchsorted(sigma, arc, side="right") - 1, 0, len(bnd) - 1)
-    frac = (arc - sigma[i]) / np.diff(sigma)[i]
-    theta = t[i] + frac * (t[i + 1] - t[i])
-    # within one turn from theta_b[0]: a landmark at its end is at its start (it came
-    # first, 2 pi above the next, and the base mesh's sectors were then out of order)
-    theta = np.where(theta >= t[-1], theta - 2 * np.pi, theta)
+    # A piece with two landmarks more than a quarter turn apart on the circle (a few
+    # landmarks on a map that stretches part of the boundary) gets one more, and, where
+    # corners are given, so does every piece as long (the other side of a cut, which
+    # must get as many): the base mesh's boundary edges are chords of the circle, whose
+    # subdivision takes their midpoints out onto it.
+    given = corners_given is not None and len(corners_given)
+    twin = np.isclose(lengths[:, None], lengths[None], rtol=1e-9, atol=0) if given else np.eye(len(lengths), dtype=bool)
+    theta, piece, rank = _piece_angles(per_piece, s0, lengths, sigma, t)
+    for _ in range(GAP_ROUNDS):
+        rel = np.mod(theta - theta_b[0], 2 * np.pi)
+        order = np.argsort(rel, kind="stable")
+        gap = np.diff(np.r_[rel[order], rel[order[0]] + 2 * np.pi])
+        wide = np.unique(piece[order][gap > MAX_LANDMARK_GAP])
+        if not len(wide):
+            break
+        per_piece = per_piece + twin[wide].any(axis=0)
+        theta, piece, rank = _piece_angles(per_piece, s0, lengths, sigma, t)
     is_corner = (rank == 0) & (len(corners) > 0)
-    # No two landmarks more than a quarter turn apart (a few landmarks on a map that
-    # stretches part of the boundary): the base mesh's boundary edges are chords of the
-    # circle, whose subdivision takes their midpoints out onto it.
+    # Gaps still that wide after GAP_ROUNDS get landmarks evenly spaced in angle.
     rel = np.sort(np.mod(theta - theta_b[0], 2 * np.pi))
     gap = np.diff(np.r_[rel, rel[0] + 2 * np.pi])
-    extra = np.ceil(gap / MAX_LANDMARK_GAP - 1e-9).astype(int) - 1
+    extra = np.maximum(np.ceil(gap / MAX_LANDMARK_GAP - 1e-9).astype(int) - 1, 0)
     if extra.any():
         at = np.repeat(np.arange(len(rel)), extra)
         step = np.arange(extra.sum()) - np.repeat(np.cumsum(extra) - extra, extra) + 1
@@ -324,6 +334,24 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
         is_corner = np.r_[is_corner, np.zeros(len(at), dtype=bool)]
     order = np.argsort(np.mod(theta - theta_b[0], 2 * np.pi), kind="stable")
     return theta[order], is_corner[order]
+
+
+def _piece_angles(per_piece, s0, lengths, sigma, t):
+    """Angles on the circle of ``per_piece`` landmarks evenly spaced in smoothed arc length
+    along each piece of the boundary (starting at ``s0``, ``lengths`` long; ``sigma`` the
+    smoothed arc length of the boundary vertices, ``t`` their angles and the first's
+    plus 2 pi), within one turn from the first vertex's angle, with the piece and rank in
+    it of each, ((k,) float, (k,) int, (k,) int)."""
+    piece = np.repeat(np.arange(len(s0)), per_piece)
+    rank = np.arange(len(piece)) - np.repeat(np.cumsum(per_piece) - per_piece, per_piece)
+    arc = np.mod(s0[piece] + lengths[piece] * rank / per_piece[piece], sigma[-1])
+    # smoothed arc length -> angle, linearly within each boundary edge
+    i = np.clip(np.searchsorted(sigma, arc, side="right") - 1, 0, len(t) - 2)
+    frac = (arc - sigma[i]) / np.diff(sigma)[i]
+    theta = t[i] + frac * (t[i + 1] - t[i])
+    # within one turn from the first angle: a landmark at its end is at its start (it
+    # came first, 2 pi above the next, and the base mesh's sectors were then out of order)
+    return np.where(theta >= t[-1], theta - 2 * np.pi, theta), piece, rank
 
 
 def _nearest_in_space(positions, candidates, generator_positions):
