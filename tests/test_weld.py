@@ -81,3 +81,16 @@ def test_weld_levels_keeps_the_levels_that_join_into_the_topology_asked_for():
     assert len(hierarchy) == 1 and np.array_equal(hierarchy[0][1], G2)
     assert weld_levels([(V, F), fine], lambda X, F, tol: (X, F, np.arange(len(X))), 1, 1) is None  # two loops
     assert weld_levels([(V, F), fine], merge_coincident, 2, 0) is None
+
+
+def test_weld_levels_refuses_faces_collapsed_or_back_to_back():
+    """A tetrahedron asked for, with chi 2 and manifold edges, but joined into two faces
+    on the same three vertices (back to back), or into faces with a corner twice (a
+    closed piece asked for 4 faces came out as [[1, 1, 0], [1, 1, 2]]): no weld."""
+    X = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    tetra = np.array([[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]])
+    level = (X, tetra[:3])  # (what the join closes: a disk)
+    (_, G, _), _ = weld_levels([level], lambda X, F, tol: (X, tetra, np.arange(4)), 2, 0)
+    np.testing.assert_array_equal(G, tetra)
+    for faces in ([[0, 1, 2], [0, 2, 1]], [[1, 1, 0], [1, 1, 2]]):
+        assert weld_levels([level], lambda X, F, tol: (X[:3], np.array(faces), np.arange(3)), 2, 0) is None

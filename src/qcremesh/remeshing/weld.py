@@ -12,14 +12,17 @@ from ..mesh.cut import weld_cut
 from ..mesh.topology import (
     boundary_edges,
     boundary_loops,
+    duplicate_faces,
     euler_characteristic,
     nonmanifold_edges,
     nonmanifold_vertices,
 )
+from ..mesh.validate import TopologyError
 from .result import RemeshResult
 
 __all__ = [
     "WELD_TOLERANCE",
+    "WeldError",
     "coincident_pairs",
     "crack_hint",
     "join_pieces",
@@ -37,6 +40,10 @@ __all__ = [
 WELD_TOLERANCE = 1e-7
 
 
+class WeldError(TopologyError):
+    """The remesh of a surface cut open does not weld back into its topology."""
+
+
 def weld_tolerance(X, F):
     """WELD_TOLERANCE of the mean boundary edge length of (X, F)."""
     border = boundary_edges(F)
@@ -47,10 +54,12 @@ def weld_levels(levels, join, chi, loops):
     """Each level (X, F) of a remesh joined by ``join(X, F, tol)`` -> (X, F, kept) (a
     ValueError where it cannot; ``tol`` WELD_TOLERANCE of the level's mean boundary edge
     length) and kept where it then has Euler characteristic ``chi``, ``loops`` boundary
-    loops and only manifold edges. Returns the output level's (X, F, kept) and the
-    hierarchy, which starts above the last coarser level that does not join so, or whose
-    join dropped faces (which then no longer split 1-to-4 into the next level's); None
-    where the output level does not join."""
+    loops, only manifold edges and faces of three distinct vertices, no two on the same
+    three (a closed piece asked for 4 faces welded into two faces, each with two corners
+    merged). Returns the output level's (X, F, kept) and the hierarchy, which starts
+    above the last coarser level that does not join so, or whose join dropped faces
+    (which then no longer split 1-to-4 into the next level's); None where the output
+    level does not join."""
 
     def joined(X, Fo):
         try:
@@ -62,6 +71,8 @@ def weld_levels(levels, join, chi, loops):
                 len(Fw) > 0
                 and euler_characteristic(Fw) == chi
                 and not len(nonmanifold_edges(Fw))
+                and np.all((Fw != np.roll(Fw, 1, axis=1)).all(axis=1))
+                and not len(duplicate_faces(Fw))
                 and len(boundary_loops(Fw)) == loops
             )
         except ValueError:
@@ -126,10 +137,11 @@ def join_pieces(results, stats, faces_key):
     The levels are those all pieces have, from the output down (a piece with fewer
     levels than another starts the hierarchy at its own base mesh); the vertices are
     numbered level by level, every piece's coarser ones first. ``uv``, ``disk_levels``,
-    ``mu`` and the stats are those of the largest piece (the one with the most output
-    faces), joined with ``stats`` and ``stats[faces_key]`` (each piece's output faces),
-    but the sharpest corner, its quality bound, the crowded share of the
-    boundary and the draws, the worst piece's; the times are summed."""
+    ``mu`` and the stats are those of the largest piece remeshed (the one with the most
+    output faces of those with ``disk_levels``; the others were kept as they were),
+    joined with ``stats`` and ``stats[faces_key]`` (each piece's output faces), but the
+    sharpest corner, its quality bound, the crowded share of the boundary and the draws,
+    the worst piece's; the times are summed."""
     count = len(results)
     depth = min(len(r.levels) for r in results)
     levels = [[r.levels[len(r.levels) - depth + i] for r in results] for i in range(depth)]
@@ -154,7 +166,7 @@ def join_pieces(results, stats, faces_key):
         for k, r in enumerate(results):
             values[number[k]] = r.data[name]
         out_data[name] = values
-    largest = max(range(count), key=lambda k: len(results[k].F))
+    largest = max(range(count), key=lambda k: (len(results[k].disk_levels) > 0, len(results[k].F)))
     main = results[largest]
     stats = {**stats, **main.stats, faces_key: [len(r.F) for r in results]}
     # What the warnings read is the worst piece's.
