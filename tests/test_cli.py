@@ -4,6 +4,7 @@ import sys
 
 import numpy as np
 import pytest
+from scipy.spatial import cKDTree
 
 from conftest import (
     DATA,
@@ -261,13 +262,13 @@ def test_remesh_cli_detaches_a_fin(tmp_path, capsys):
 
 
 def test_remesh_cli_warns_of_a_face_count_far_from_the_asked(tmp_path, capsys):
-    """Ten squares of two triangles apart at 20 faces: each piece takes at least 4."""
+    """Ten squares of two triangles apart at 20 faces: each piece is asked for at least 4."""
     square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=float)
     path = tmp_path / "squares.obj"
     write_mesh(path, np.concatenate([square + [3 * i, 0, 0] for i in range(10)]),
                np.concatenate([np.array([[0, 1, 2], [0, 2, 3]]) + 4 * i for i in range(10)]))
     assert main(["remesh", str(path), "-o", str(tmp_path / "r.obj"), "--faces", "20"]) == 0
-    assert "qcremesh: warning: 30 faces, 50 % off the 20 asked for" in capsys.readouterr().err
+    assert "qcremesh: warning: 39 faces, 95 % off the 20 asked for" in capsys.readouterr().err
     assert main(["remesh", str(path), "-o", str(tmp_path / "r.obj"), "--faces", "200"]) == 0
     assert "asked for" not in capsys.readouterr().err
 
@@ -561,3 +562,31 @@ def test_remesh_cli_says_when_it_cut_long_boundary_edges(tmp_path, capsys):
         r"cut into pieces first: \d+ vertices added on them",
         lines[0],
     )
+
+
+def test_remesh_cli_says_which_pieces_took_more_faces_or_were_kept(tmp_path, capsys, monkeypatch):
+    """A small sphere beside a disk, remeshed at more than its share of 200 faces (which
+    do not weld back); where no remesh of it welds, kept as in the input, with a
+    warning."""
+    import qcremesh.remeshing.pipeline as pipeline
+
+    uv, F = grid_disk(10)
+    S, G = sphere_mesh(200)
+    path = tmp_path / "two.obj"
+    write_mesh(path, np.r_[np.column_stack([uv, np.zeros(len(uv))]), 0.05 * S + [3, 0, 0]], np.r_[F, G + len(uv)])
+    assert main(["remesh", str(path), "-o", str(tmp_path / "out.ply"), "--faces", "200"]) == 0
+    captured = capsys.readouterr()
+    assert (
+        "\n1 of them remeshed at more than their share of the faces, which did not weld back or came out "
+        "collapsed (parts a few output edges thin)\n" in captured.out
+    )
+    assert "kept as in the input" not in captured.err
+    monkeypatch.setattr(pipeline, "weld_levels", lambda *args: None)
+    assert main(["remesh", str(path), "-o", str(tmp_path / "out.ply"), "--faces", "200"]) == 0
+    captured = capsys.readouterr()
+    assert (
+        "qcremesh: warning: piece 2 kept as in the input: no remesh of it at up to 4 times its face count welds "
+        "back (parts thinner than an output edge)\n" in captured.err
+    )
+    X, _ = read_mesh(tmp_path / "out.ply")
+    assert cKDTree(X).query(0.05 * S + [3, 0, 0])[0].max() < 1e-6

@@ -228,12 +228,86 @@ def test_remesh_of_a_cube_of_12_faces():
         assert q.mean() > 0.96 and q.min() > 0.6
 
 
-def test_a_piece_that_is_refused_is_named():
+def test_a_cube_welds_at_a_few_faces():
+    """The cube cut open along two edges at 8 to 32 faces: the landmarks on the two sides
+    of the cut are as many, although the disk map stretches one side so that it gets
+    more than its share (they were added to that side alone, and no count from 4 to 32
+    welded)."""
+    V, F = cube_mesh()
+    for faces in (8, 16, 32):
+        r = remesh(V, F, faces)
+        assert euler_characteristic(r.F) == 2 and not len(boundary_edges(r.F)) and not len(nonmanifold_edges(r.F))
+        assert abs(len(r.F) - faces) <= 8
+        assert np.allclose(np.abs(r.V).max(axis=1), 0.5)
+
+
+def _disk_and_cubes(cubes):
     uv, F = grid_disk(10)
     V, G = cube_mesh()
-    with pytest.raises(TopologyError, match=r"^piece 2 of 2 \(12 faces, 4 asked for\): the remesh of the surface "
-                       r"cut open does not weld back into its topology$"):
-        remesh(np.r_[np.column_stack([uv, np.zeros(len(uv))]), 0.05 * V + [3, 0, 0]], np.r_[F, G + len(uv)], 200)
+    Vs = [np.column_stack([uv, np.zeros(len(uv))])] + [0.05 * V + [3 + k, 0, 0] for k in range(cubes)]
+    Fs = [F] + [G + len(uv) + 8 * k for k in range(cubes)]
+    return np.concatenate(Vs), np.concatenate(Fs)
+
+
+def test_a_piece_that_is_refused_is_named(monkeypatch):
+    import qcremesh.remeshing.pipeline as pipeline
+
+    def no_cut(V, F, n=None):
+        raise ValueError("no cut")
+
+    monkeypatch.setattr(pipeline, "cut_to_disk", no_cut)
+    with pytest.raises(TopologyError, match=r"^piece 2 of 2 \(12 faces, 4 asked for\): cannot cut the surface open "
+                       r"into a disk: no cut$"):
+        remesh(*_disk_and_cubes(1), 200)
+
+
+def test_a_piece_too_small_for_its_share_gets_more_faces():
+    """A small sphere (396 faces) beside a disk gets 4 of 200 faces, which do not weld
+    back into a closed surface (it was refused): it is remeshed at twice as many, until
+    it welds."""
+    uv, F = grid_disk(10)
+    S, G = sphere_mesh(200)
+    V, F = np.r_[np.column_stack([uv, np.zeros(len(uv))]), 0.05 * S + [3, 0, 0]], np.r_[F, G + len(uv)]
+    r = remesh(V, F, 200)
+    assert r.stats["pieces_raised"] == 1 and "pieces_kept" not in r.stats
+    disk, ball = r.stats["piece_faces"]
+    assert ball >= 8 and disk + ball == len(r.F)
+    B = r.F[disk:]
+    assert euler_characteristic(B) == 2 and not len(boundary_edges(B)) and not len(nonmanifold_edges(B))
+    assert point_mesh_distance(r.V[np.unique(B)], V, F)[0].max() < 1e-9
+
+
+def test_a_piece_that_never_welds_is_kept(monkeypatch):
+    """Where no remesh of a piece welds back at up to 4 times its face count, it is kept
+    as it was (a part thinner than an output edge), unless all are."""
+    import qcremesh.remeshing.pipeline as pipeline
+
+    monkeypatch.setattr(pipeline, "weld_levels", lambda *args: None)
+    V, F = _disk_and_cubes(1)
+    r = remesh(V, F, 200, data={"x": V[:, 0]})
+    assert r.stats["pieces_kept"] == [2] and "pieces_raised" not in r.stats
+    disk, cube = r.stats["piece_faces"]
+    assert cube == 12
+    np.testing.assert_array_equal(np.sort(r.V[r.F[disk:]].reshape(-1, 3), axis=0),
+                                  np.sort(V[F[-12:]].reshape(-1, 3), axis=0))
+    np.testing.assert_allclose(r.data["x"], r.V[:, 0], atol=1e-12)
+    assert len(r.uv) == len(r.V) - 8 and len(r.levels) == 1  # the disk's map; the kept piece has no levels
+    C, G = cube_mesh()
+    with pytest.raises(TopologyError, match=r"^none of the 2 pieces welds back into its topology at up to 4 times its "
+                       r"face count$"):
+        remesh(np.r_[C, C + 2], np.r_[G, G + 8], 200)
+
+
+def test_a_surface_whose_loops_are_all_short_welds():
+    """A sphere with two holes of perimeter about 1.1 at 50 faces (edges of about 0.5):
+    both loops, the longest too, get shorter edges around them, and the surface cut
+    open between them welds back (it did not)."""
+    V, F = sphere_mesh(1500)
+    keep = np.abs(V[F].mean(1)[:, 2]) < np.cos(0.15)
+    used, G = np.unique(F[keep], return_inverse=True)
+    r = remesh(V[used], G.reshape(-1, 3), 50)
+    assert len(boundary_loops(r.F)) == 2 and euler_characteristic(r.F) == 0 and not len(nonmanifold_edges(r.F))
+    assert abs(len(r.F) - 50) <= 8
 
 
 def test_remesh_of_a_torus_with_and_without_a_hole():

@@ -40,7 +40,7 @@ from ..mesh.validate import MeshError, foldover_edges
 from ..param.disk import disk_conformal_map
 from ..remeshing.min_quality import QUALITY_FLOOR
 from ..remeshing.mend import LONG_BOUNDARY_RATIO
-from ..remeshing.pipeline import METHODS
+from ..remeshing.pipeline import METHODS, PIECE_FACE_RATIO
 
 __all__ = ["main"]
 
@@ -433,6 +433,20 @@ def _remesh(args, out):
     if "pieces" in st:
         faces = ", ".join(f"{f:,}" for f in st["piece_faces"])
         print(f"{st['pieces']} pieces, remeshed each ({faces} faces; the numbers below are the largest's)", file=out)
+        if "pieces_raised" in st:
+            print(
+                f"{st['pieces_raised']} of them remeshed at more than their share of the faces, which did not "
+                "weld back or came out collapsed (parts a few output edges thin)",
+                file=out,
+            )
+        if "pieces_kept" in st:
+            kept = st["pieces_kept"]
+            print(
+                f"qcremesh: warning: {'pieces' if len(kept) > 1 else 'piece'} {', '.join(map(str, kept))} kept as in "
+                f"the input: no remesh of {'them' if len(kept) > 1 else 'it'} at up to {PIECE_FACE_RATIO} times "
+                f"{'their' if len(kept) > 1 else 'its'} face count welds back (parts thinner than an output edge)",
+                file=sys.stderr,
+            )
     if "crowded_cuts" in st:
         faces = ", ".join(f"{f:,}" for f in st["crowded_piece_faces"])
         print(
