@@ -285,7 +285,8 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     metric = None if spacing is None else density
     s = _weighted(_arc_length(P), metric)
     scale = s[-1] / max(count, 3) if spacing is None else spacing
-    corners_given = corners
+    # given corners cut the boundary into sides that must match their twins (below)
+    matched_sides = corners is not None and len(corners) > 0
     found = boundary_corners(V, bnd, corner_angle, scale=scale, pieces=corners, density=metric)
     sigma = smoothed_arc_length(P, scale if smooth else 0.0, density)
     if corners is not None and len(corners):
@@ -310,8 +311,11 @@ def boundary_landmarks(V, uv, bnd, count, corner_angle=45.0, density=None, corne
     # corners are given, so does every piece as long (the other side of a cut, which
     # must get as many): the base mesh's boundary edges are chords of the circle, whose
     # subdivision takes their midpoints out onto it.
-    given = corners_given is not None and len(corners_given)
-    twin = np.isclose(lengths[:, None], lengths[None], rtol=1e-9, atol=0) if given else np.eye(len(lengths), dtype=bool)
+    twin = (
+        np.isclose(lengths[:, None], lengths[None], rtol=1e-9, atol=0)
+        if matched_sides
+        else np.eye(len(lengths), dtype=bool)
+    )
     theta, piece, rank = _piece_angles(per_piece, s0, lengths, sigma, t)
     for _ in range(GAP_ROUNDS):
         rel = np.mod(theta - theta_b[0], 2 * np.pi)

@@ -441,10 +441,10 @@ def _remesh(args, out):
             )
         if "pieces_kept" in st:
             kept = st["pieces_kept"]
+            piece, them, their = ("pieces", "them", "their") if len(kept) > 1 else ("piece", "it", "its")
             print(
-                f"qcremesh: warning: {'pieces' if len(kept) > 1 else 'piece'} {', '.join(map(str, kept))} kept as in "
-                f"the input: no remesh of {'them' if len(kept) > 1 else 'it'} at up to {PIECE_FACE_RATIO} times "
-                f"{'their' if len(kept) > 1 else 'its'} face count welds back (parts thinner than an output edge)",
+                f"qcremesh: warning: {piece} {', '.join(map(str, kept))} kept as in the input: no remesh of {them} "
+                f"at up to {PIECE_FACE_RATIO} times {their} face count welds back (parts thinner than an output edge)",
                 file=sys.stderr,
             )
     if "crowded_cuts" in st:
