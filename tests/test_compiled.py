@@ -14,7 +14,7 @@ from qcremesh.geometry import distance
 from qcremesh.geometry.compiled import pair_distances_kernel
 from qcremesh.geometry.distance import point_mesh_distance, point_triangle_distance
 from qcremesh.mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
-from qcremesh.remeshing import compiled, onsurface, relax
+from qcremesh.remeshing import compiled, onsurface, smoothing
 from qcremesh.remeshing.compiled import closest_point_near_kernel
 
 pytest.importorskip("numba")
@@ -47,7 +47,7 @@ def test_compiled_smoothing_step_is_the_numpy_one_to_the_last_bit():
     verts = np.setdiff1d(np.arange(len(V)), boundary_loop(F))
     ring = A[verts]
     for step in (0.5, 1.0, 4.0):
-        expected = relax._smooth_targets(V, verts, ring, F, VF, E, step)
+        expected = smoothing.smooth_targets(V, verts, ring, F, VF, E, step)
         got = compiled.smooth_targets_kernel()(V, verts, ring, F, VF, E, step)
         np.testing.assert_array_equal(got, expected)
     moved = np.linalg.norm(got - V[verts], axis=1)

@@ -89,7 +89,7 @@ def _closest_point_near(P, face, V, F, indptr, indices, rounds):
 
 
 def _smooth_targets(X, verts, ring_indptr, ring_indices, vf_indptr, vf_indices, Fo, step):
-    """The smoothing step of qcremesh.remeshing.relax._smooth_targets vertex by vertex,
+    """The smoothing step of qcremesh.remeshing.smoothing.smooth_targets vertex by vertex,
     with the adjacency rows of ``verts`` and the vertex-face incidence as CSR arrays."""
     p = verts.shape[0]
     out = np.empty((p, 3))
@@ -144,7 +144,7 @@ def closest_point_near_kernel():
 
 def smooth_targets_kernel():
     """The compiled smoothing step, ``targets(X, verts, ring, Fo, VF, E, step) -> (p,
-    3)``, as :func:`qcremesh.remeshing.relax._smooth_targets` (``ring`` with sorted
+    3)``, as :func:`qcremesh.remeshing.smoothing.smooth_targets` (``ring`` with sorted
     indices, ``E`` the sorted edge list it takes its edge lengths from); None where Numba
     cannot be imported."""
     return _targets if _compiled() else None

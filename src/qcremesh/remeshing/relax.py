@@ -2,7 +2,8 @@
 surface and the connectivity unchanged.
 
 An optional last stage of :func:`qcremesh.remeshing.pipeline.remesh`, beyond the paper. Each
-sweep moves every interior vertex towards the centroid of its neighbours, tangentially
+sweep (:func:`qcremesh.remeshing.smoothing.smoothing_sweep`) moves every interior vertex
+towards the centroid of its neighbours, tangentially
 (the component along the vertex normal is removed), by at most a quarter of its mean
 edge length, and snaps it back onto the input surface at the closest point among the input faces
 around the face it was on (a local search, so a vertex never jumps to another sheet of
@@ -33,16 +34,16 @@ from scipy.spatial import cKDTree
 
 from ..adaptive.landmarks import interpolate_on_boundary
 from ..geometry.locate import interpolate_barycentric, locate_points
-from ..geometry.operators import signed_doublearea, vertex_normals
+from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
 from ..geometry.threads import query_workers
 from ..geometry.vectors import norm
 from ..mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
-from .compiled import smooth_targets_kernel
 from .guard import DistanceGuard
 from .min_quality import QUALITY_FLOOR, raise_min_quality
 from .onsurface import BoundaryCurve, closest_point_near, csr_rows
 from .regularize import raise_regular_fraction
+from .smoothing import edge_lengths, smoothing_sweep
 from .snap import snap_to_far_points
 
 __all__ = ["relax_on_surface"]
@@ -66,42 +67,6 @@ SNAPPED_FLOOR = 0.4
 
 # Most rounds of the walk that locates a vertex in the disk map from a face near it.
 WALK_ROUNDS = 64
-
-
-def _edge_lengths(X, E):
-    """Lengths of the edges ``E`` (e, 2), (e,)."""
-    return norm(np.take(X, E[:, 0], axis=0) - np.take(X, E[:, 1], axis=0))
-
-
-def _smooth_targets(X, verts, ring, Fo, VF, E, step):
-    """Where one sweep of tangential smoothing sends the vertices ``verts`` (``ring``:
-    their rows of the adjacency matrix, with sorted indices), before they are put back
-    onto the surface, (p, 3): ``step`` of the way to the mean of their neighbours, less
-    its component along the vertex normal, and at most a quarter of the vertex's mean
-    edge length. With Numba, :mod:`qcremesh.remeshing.compiled` computes the same to the
-    last bit."""
-    k = len(X)
-    deg = np.diff(ring.indptr)
-    normal = vertex_normals(X, Fo, VF)[verts]
-    d = (ring @ X) / deg[:, None] - X[verts]
-    d -= (d * normal).sum(1, keepdims=True) * normal
-    length = _edge_lengths(X, E)
-    reach = (np.bincount(E[:, 0], length, k) + np.bincount(E[:, 1], length, k))[verts] / deg
-    d *= step
-    d *= np.minimum(1.0, 0.25 * reach / np.maximum(norm(d), 1e-300))[:, None]
-    return X[verts] + d
-
-
-def _smooth(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, step):
-    """One sweep of tangential smoothing of the vertices ``verts`` (``ring``: their rows of
-    the adjacency matrix): new surface positions, disk positions and input faces of all
-    vertices (the others unchanged)."""
-    targets = (smooth_targets_kernel() or _smooth_targets)(X, verts, ring, Fo, VF, E, step)
-    new_X, new_uv, new_face = X.copy(), uv.copy(), face.copy()
-    f, cp, b = closest_point_near(targets, face[verts], V, F, vertex_faces)
-    new_face[verts], new_X[verts] = f, cp
-    new_uv[verts] = interpolate_barycentric(F, f, b, disk_uv)
-    return new_X, new_uv, new_face
 
 
 def _locate(disk_uv, F, vertex_faces, A, uv, inner, hint):
@@ -324,7 +289,7 @@ def relax_on_surface(
     moved = np.flatnonzero(free)
     ring = A[moved]
     for _ in range(iterations):
-        new_X, new_uv, new_face = _smooth(X, uv, face, moved, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, step)
+        new_X, new_uv, new_face = smoothing_sweep(X, uv, face, moved, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, step)
         # boundary: 1D smoothing of arc length along the output boundary loop
         s_prev, s_next = np.roll(s, 1), np.roll(s, -1)
         s_prev[0] -= perimeter
@@ -339,7 +304,7 @@ def relax_on_surface(
     if snap > 0:
         snap_to_far_points(
             X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, A_in, disk_uv, vertex_faces,
-            snap * _edge_lengths(X, E).mean(),
+            snap * edge_lengths(X, E).mean(),
         )
     if min_quality > 0 and rounds > 0:
         raise_min_quality(
@@ -351,7 +316,7 @@ def relax_on_surface(
             # polish around, the snapped vertices staying.
             snap_to_far_points(
                 X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, A_in, disk_uv, vertex_faces,
-                snap * _edge_lengths(X, E).mean(),
+                snap * edge_lengths(X, E).mean(),
             )
             raise_min_quality(
                 X, uv, face, s, Fo, A, VF, bnd, pinned | snapped, snapped, V, F, disk_uv, vertex_faces, curve,
@@ -370,7 +335,7 @@ def relax_on_surface(
             wedged = np.flatnonzero(near & free)
             ring = A[wedged]
             for _ in range(UNJAM_SWEEPS):
-                new_X, new_uv, new_face = _smooth(
+                new_X, new_uv, new_face = smoothing_sweep(
                     X, uv, face, wedged, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, step
                 )
                 _undo_folds(new_X, new_uv, new_face, X, uv, face, Fo)
@@ -384,7 +349,7 @@ def relax_on_surface(
     # (the snapping guards its own moves the same way).
     guard = None
     if snap > 0 and (last_search or regular_rounds > 0):
-        guard = DistanceGuard(X, Fo, VF, V, snap * _edge_lengths(X, E).mean())
+        guard = DistanceGuard(X, Fo, VF, V, snap * edge_lengths(X, E).mean())
     if last_search:
         # The snapping leaves faces down to QUALITY_FLOOR around the vertices it moved into
         # pockets, and held there they stay; a short search in which they may move again to
