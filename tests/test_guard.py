@@ -47,6 +47,21 @@ def test_a_move_out_of_the_pit_is_refused():
     assert not DistanceGuard(X, Fo, VF, V, 1.2).excluded(X, Fo, VF, np.array([0]), Xc).any()
 
 
+def test_a_patch_moved_out_of_the_pit_is_refused():
+    """The whole star as one patch, moved already: lifted 0.4 (the bottom then 0.91 away,
+    beyond the limit 0.6 and where it was) it is refused, unless its patch allows 1;
+    shifted sideways by 0.05 it is taken."""
+    V, F, X, Fo = pit()
+    VF = vertex_face_incidence(Fo, len(X))
+    guard = DistanceGuard(X, Fo, VF, V, 0.6)
+    faces, patch = np.arange(len(Fo)), np.zeros(len(Fo), dtype=int)
+    up = X + [0.0, 0.0, 0.4]
+    assert guard.excluded_patches(up, Fo, faces, patch, np.array([0.0])).tolist() == [True]
+    assert guard.excluded_patches(up, Fo, faces, patch, np.array([1.0])).tolist() == [False]
+    aside = X + [0.05, 0.0, 0.0]
+    assert guard.excluded_patches(aside, Fo, faces, patch, np.array([0.0])).tolist() == [False]
+
+
 def test_update_measures_the_watched_points_again():
     """Moved into the plane anyway, the centre leaves the pit's bottom 1 from the output."""
     V, F, X, Fo = pit()

@@ -4,6 +4,7 @@ import numpy as np
 
 from conftest import grid_disk
 from qcremesh.adaptive.basemesh import delaunay_disk_mesh, hexagonal_disk_points
+from qcremesh.geometry.distance import point_mesh_distance
 from qcremesh.geometry.locate import interpolate_barycentric, locate_points
 from qcremesh.geometry.operators import signed_doublearea
 from qcremesh.geometry.quality import radius_ratio
@@ -11,7 +12,7 @@ from qcremesh.mesh.subdivide import upsample
 from qcremesh.mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
 from qcremesh.remeshing.min_quality import raise_min_quality
 from qcremesh.remeshing.onsurface import BoundaryCurve, closest_point_near, nearest_per_owner
-from qcremesh.remeshing import relax
+from qcremesh.remeshing import relax, snap
 from qcremesh.remeshing.regularize import GOOD_QUALITY, raise_regular_fraction
 from qcremesh.remeshing.relax import relax_on_surface
 from qcremesh.remeshing.snap import snap_to_far_points
@@ -101,10 +102,12 @@ def test_snap_leaves_the_vertices_snapped_before():
     assert snapped[mover] and np.all(np.all(X == before, axis=1) | snapped)
 
 
-def test_snap_falls_back_to_another_vertex_of_the_face():
+def test_snap_falls_back_to_another_vertex_of_the_face(monkeypatch):
     """Where the vertex nearest a tip cannot move towards it at all (a neighbour pushed
-    next to it leaves one of its faces near 0.3), the far point pulls another vertex of the
-    output face closest to it, in a later pass, onto the tip."""
+    next to it leaves one of its faces near 0.3), nor with its rings draped after it (no
+    sweeps here: it moves alone), the far point pulls another vertex of the output face
+    closest to it, in a later pass, onto the tip."""
+    monkeypatch.setattr(snap, "DRAPE_SWEEPS", 0)
     V, F, uv_in, tip, X, Fo, uv, face = _snap_setup(0.3)
     first = np.flatnonzero(_snap(V, F, uv_in, X.copy(), Fo, uv.copy(), face.copy()))
     np.testing.assert_array_equal(first, [47])
@@ -120,10 +123,12 @@ def test_snap_falls_back_to_another_vertex_of_the_face():
     assert radius_ratio(X, Fo).min() >= 0.3
 
 
-def test_snap_moves_part_of_the_way_up_a_cone_too_high():
-    """A cone so high that a vertex on its tip would leave a face below 0.3: the nearest
-    vertex goes part of the way (a fraction of the disk segment, lifted onto the surface:
-    up the cone), and every face stays above 0.3."""
+def test_snap_moves_part_of_the_way_up_a_cone_too_high(monkeypatch):
+    """A cone so high that a vertex on its tip would leave a face below 0.3 (with no
+    sweeps to drape its rings after it): the nearest vertex goes part of the way (a
+    fraction of the disk segment, lifted onto the surface: up the cone), and every face
+    stays above 0.3."""
+    monkeypatch.setattr(snap, "DRAPE_SWEEPS", 0)
     V, F, uv_in, tip, X, Fo, uv, face = _snap_setup(1.0, width=0.3)
     before = X.copy()
     partial = np.zeros(len(X), dtype=bool)
@@ -141,10 +146,11 @@ def test_snap_moves_part_of_the_way_up_a_cone_too_high():
     np.testing.assert_allclose(X[moved], np.einsum("kc,kcd->kd", b, V[F[f]]), atol=1e-12)
 
 
-def test_snap_moves_a_vertex_again_that_went_part_of_the_way():
-    """The flags of an earlier call: a vertex that went part of the way up the cone may be
-    pulled again (put back where it started, it goes up again), one that went all the way
-    stays."""
+def test_snap_moves_a_vertex_again_that_went_part_of_the_way(monkeypatch):
+    """The flags of an earlier call: a vertex that went part of the way up the cone (no
+    draping) may be pulled again (put back where it started, it goes up again), one that
+    went all the way stays."""
+    monkeypatch.setattr(snap, "DRAPE_SWEEPS", 0)
     V, F, uv_in, tip, X, Fo, uv, face = _snap_setup(1.0, width=0.3)
     start = X.copy(), uv.copy(), face.copy()
     partial = np.zeros(len(X), dtype=bool)
@@ -160,6 +166,30 @@ def test_snap_moves_a_vertex_again_that_went_part_of_the_way():
         else:
             assert np.linalg.norm(X[mover] - V[tip]) < np.linalg.norm(start[0][mover] - V[tip])
             assert radius_ratio(X, Fo).min() >= 0.3
+
+
+def test_snap_drapes_the_rings_after_a_vertex_too_far_from_a_tip_alone():
+    """The cone too high for one vertex: the nearest goes onto its tip all the same, the
+    free vertices within two edges of it draped after it (on the surface, where their disk
+    positions lift), the boundary where it was, every face above 0.3; the input is nearer
+    the output than before everywhere on the cone."""
+    V, F, uv_in, tip, X, Fo, uv, face = _snap_setup(1.0, width=0.3)
+    before = X.copy()
+    partial = np.zeros(len(X), dtype=bool)
+    snapped = _snap(V, F, uv_in, X, Fo, uv, face, partial=partial)
+    (mover,) = np.flatnonzero(snapped)
+    np.testing.assert_array_equal(X[mover], V[tip])
+    assert not partial.any()
+    moved = np.flatnonzero(np.any(X != before, axis=1))
+    A = adjacency_matrix(Fo, len(X))
+    within = (A + A @ A)[mover].indices
+    assert set(moved) <= set(within) | {mover} and len(moved) > 6
+    assert not np.isin(moved, boundary_loop(Fo)).any()
+    assert radius_ratio(X, Fo).min() >= 0.3
+    cone = V[:, 2] > 0
+    assert point_mesh_distance(V[cone], X, Fo)[0].max() < 0.5 * point_mesh_distance(V[cone], before, Fo)[0].max()
+    f, b, _ = locate_points(uv_in, F, uv[moved])
+    np.testing.assert_allclose(X[moved], np.einsum("kc,kcd->kd", b, V[F[f]]), atol=1e-12)
 
 
 def test_min_quality_search_repairs_slivers_on_a_plane():

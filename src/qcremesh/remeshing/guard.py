@@ -156,6 +156,44 @@ class DistanceGuard:
         np.logical_or.at(bad, row, measure & (d > allowed[:, None] * (1 + 1e-9)))
         return bad
 
+    def excluded_patches(self, X, Fo, faces, patch, allow):
+        """Which patches of faces, moved already, take a watched point whose nearest face
+        is among them farther from them than the limit (and than it is, and than ``allow``
+        of the patch), (r,) bool.
+
+        Parameters
+        ----------
+        X : (k, 3) float
+            Output vertices, where the patches moved them.
+        Fo : (l, 3) int
+            Output faces.
+        faces : (s,) int
+            The faces of the patches, each in one patch.
+        patch : (s,) int
+            The patch of each, in [0, r).
+        allow : (r,) float
+        """
+        r = len(allow)
+        of_face = np.full(len(Fo), -1)
+        of_face[faces] = patch
+        point = np.flatnonzero(of_face[self.face] >= 0)
+        bad = np.zeros(r, dtype=bool)
+        if len(point) == 0:
+            return bad
+        which = of_face[self.face[point]]
+        order = np.argsort(patch, kind="stable")
+        count = np.bincount(patch, minlength=r)
+        start = np.cumsum(count) - count
+        # every watched point against every face of its patch
+        n = count[which]
+        i = np.repeat(np.arange(len(point)), n)
+        j = faces[order][np.repeat(start[which], n) + np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)]
+        d = point_face_distances(self.V[self.points[point]], X, Fo, i, j)
+        d = np.minimum.reduceat(d, np.cumsum(n) - n)
+        allowed = np.maximum(np.maximum(self.limit, self.distance[point]), allow[which])
+        np.logical_or.at(bad, which, d > allowed * (1 + 1e-9))
+        return bad
+
     def update(self, X, Fo, VF, moved):
         """After the output vertices ``moved`` (int array) moved: the distances and
         nearest faces of the watched points whose nearest face has one of them as a
