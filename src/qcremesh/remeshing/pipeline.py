@@ -32,6 +32,7 @@ import numpy as np
 
 from ..adaptive.sizing import check_sizing, curvature_sizing, hole_sizing, point_sizing
 from ..geometry.creases import check_crease_angle, sharp_edges
+from ..geometry.distance import hausdorff_distance
 from ..geometry.operators import doublearea
 from ..geometry.quality import radius_ratio
 from ..mesh.cut import cut_along_edges, cut_to_disk, edge_paths, path_edges, weld_along_paths, weld_cut
@@ -83,15 +84,18 @@ WELD_REFINE_RATIOS = (0.5, 0.25)
 TRIM_REACH = 3.0
 
 # A piece of a mesh in several whose remesh at its share of the faces does not weld back,
-# or welds into fewer than half of them or faces of a mean radius ratio below
-# PIECE_MEAN_QUALITY, is remeshed at twice as many, while that is at most
-# PIECE_FACE_RATIO times its own face count, and kept as it is where none welds:
-# pyvista's sample ant.ply, 15 closed pieces, has flat plates 0.4 thick (at their share
-# of its 912 faces, 19, welded into 16 faces of mean q 0.14; at 38, the weld folding
-# most of them away, into 4; at 304, mean q 0.88) and legs of three spindles joined at
-# necks far thinner than an output edge.
+# or welds into fewer than half of them, or farther from it than PIECE_MAX_DISTANCE of its
+# bounding-box diagonal, or into faces of a mean radius ratio below PIECE_MEAN_QUALITY,
+# is remeshed at twice as many, while that is at most PIECE_FACE_RATIO times its own face
+# count, and kept as it is where none welds close enough: pyvista's sample ant.ply, 15
+# closed pieces, has flat plates 0.4 thick (at their share of its 912 faces, 19, welded
+# into 16 faces of mean q 0.14; at 38, the weld folding most of them away, into 4; at
+# 304, mean q 0.88) and legs of three spindles joined at necks far thinner than an
+# output edge (at half its face count, one of 90 faces welded into 42 of mean q 0.68,
+# 45 % of its diagonal from it: the ant's Hausdorff distance 13 %).
 PIECE_FACE_RATIO = 4
 PIECE_MEAN_QUALITY = 0.5
+PIECE_MAX_DISTANCE = 0.25
 
 # Fewest faces of a piece so cut off (else its path is not cut).
 MIN_PIECE_FACES = 16
@@ -439,20 +443,27 @@ def _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, stats, options, r
 
 def _remesh_piece(V, F, share, sizing, fixed_boundary, data, options):
     """:func:`remesh` of one piece of a mesh in several at its ``share`` of the faces, or,
-    where that does not weld back or welds into fewer than half of them or faces of mean
-    radius ratio below PIECE_MEAN_QUALITY, at twice as many, while that is at most
-    PIECE_FACE_RATIO times its own face count: (the last remesh that welded, or None, and
-    the faces it was asked for)."""
-    asked, result = share, None
+    where that does not weld back, or welds into fewer than half of them, or farther from
+    the piece than PIECE_MAX_DISTANCE of its diagonal, or into faces of mean radius ratio
+    below PIECE_MEAN_QUALITY, at twice as many, while that is at most PIECE_FACE_RATIO
+    times its own face count: (the last remesh that welded into at least half the faces
+    asked for and close enough, or None, and the faces it was asked for). Any other has
+    lost the piece's shape (pyvista's ant.ply at half its face count: a leg of 88 faces
+    welded into a tetrahedron at 32 asked for, and at no count up to 256, the Hausdorff
+    distance of the whole 17 %)."""
+    asked, welded = share, (None, share)
+    limit = PIECE_MAX_DISTANCE * np.linalg.norm(V.max(axis=0) - V.min(axis=0))
     while True:
         try:
             result = remesh(V, F, asked, sizing=sizing, fixed_boundary=fixed_boundary, data=data, **options)
-            if 2 * len(result.F) >= asked and radius_ratio(result.V, result.F).mean() >= PIECE_MEAN_QUALITY:
-                return result, asked
+            if 2 * len(result.F) >= asked and hausdorff_distance(V, F, result.V, result.F)[0] <= limit:
+                welded = result, asked
+                if radius_ratio(result.V, result.F).mean() >= PIECE_MEAN_QUALITY:
+                    return welded
         except WeldError:
             pass
         if 2 * asked > PIECE_FACE_RATIO * len(F):
-            return result, asked
+            return welded
         asked *= 2
 
 
