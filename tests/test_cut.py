@@ -298,6 +298,33 @@ def test_a_piece_that_never_welds_is_kept(monkeypatch):
         remesh(np.r_[C, C + 2], np.r_[G, G + 8], 200)
 
 
+def test_a_piece_remeshed_away_from_itself_is_raised_then_kept(monkeypatch):
+    """A remesh of a piece that welds into enough faces but stands farther from it than a
+    quarter of its diagonal (the shape a leg of pyvista's ant lost; here the distance is
+    reported so for the cube) is not taken: the piece is asked again at twice the faces
+    while that is at most 4 times its own, and then kept as in the input; the disk beside
+    it is remeshed as always."""
+    import qcremesh.remeshing.pipeline as pipeline
+
+    real, asked = pipeline.hausdorff_distance, []
+
+    def far_for_the_cube(VA, FA, VB, FB):
+        if len(FA) == 12:
+            asked.append(len(FB))
+            return np.inf, np.inf
+        return real(VA, FA, VB, FB)
+
+    monkeypatch.setattr(pipeline, "hausdorff_distance", far_for_the_cube)
+    V, F = _disk_and_cubes(1)
+    r = remesh(V, F, 200)
+    assert len(asked) >= 2 and asked == sorted(asked)
+    assert r.stats["pieces_kept"] == [2] and "pieces_raised" not in r.stats
+    disk, cube = r.stats["piece_faces"]
+    assert cube == 12 and abs(disk - 196) <= 10
+    monkeypatch.setattr(pipeline, "hausdorff_distance", real)
+    assert "pieces_kept" not in remesh(V, F, 200).stats
+
+
 def test_a_surface_whose_loops_are_all_short_welds():
     """A sphere with two holes of perimeter about 1.1 at 50 faces (edges of about 0.5):
     both loops, the longest too, get shorter edges around them, and the surface cut
