@@ -436,7 +436,7 @@ def _remesh(args, out):
         if "pieces_raised" in st:
             print(
                 f"{st['pieces_raised']} of them remeshed at more than their share of the faces, which did not "
-                "weld back or came out collapsed (parts a few output edges thin)",
+                "weld back or came out collapsed or away from the piece (parts a few output edges thin)",
                 file=out,
             )
         if "pieces_kept" in st:
@@ -444,7 +444,8 @@ def _remesh(args, out):
             piece, them, their = ("pieces", "them", "their") if len(kept) > 1 else ("piece", "it", "its")
             print(
                 f"qcremesh: warning: {piece} {', '.join(map(str, kept))} kept as in the input: no remesh of {them} "
-                f"at up to {PIECE_FACE_RATIO} times {their} face count welds back (parts thinner than an output edge)",
+                f"at up to {PIECE_FACE_RATIO} times {their} face count welds back close to {them} (parts thinner than an "
+                "output edge)",
                 file=sys.stderr,
             )
     if "crowded_cuts" in st:
