@@ -194,3 +194,10 @@ def test_genus():
     G = holed_disk()[1]
     assert genus(G) == 0 and genus(G[:, ::-1]) == 0  # whatever the orientation
     assert genus(np.concatenate([F, F + len(V)])) is None  # two pieces
+
+
+def test_repeated_corner_faces():
+    """A vertex at two corners, in any position, marks the face; three distinct do not."""
+    F = np.array([[0, 1, 2], [3, 3, 4], [5, 6, 5], [7, 8, 8], [9, 9, 9]])
+    np.testing.assert_array_equal(t.repeated_corner_faces(F), [False, True, True, True, True])
+    assert t.repeated_corner_faces(np.zeros((0, 3), dtype=int)).shape == (0,)

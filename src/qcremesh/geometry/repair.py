@@ -19,7 +19,14 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from ..mesh.topology import boundary_edges, face_edge_lengths, half_edges, needles_and_caps, twin_half_edges
+from ..mesh.topology import (
+    boundary_edges,
+    face_edge_lengths,
+    half_edges,
+    needles_and_caps,
+    repeated_corner_faces,
+    twin_half_edges,
+)
 from .triangulation import flip_edges
 
 __all__ = ["repair_degenerate_faces"]
@@ -37,8 +44,7 @@ def _merge_needles(V, F, needles):
     smallest = np.full(label.max() + 1, n)
     np.minimum.at(smallest, label, np.arange(n))
     F = smallest[label][F]
-    repeated = (F[:, 0] == F[:, 1]) | (F[:, 1] == F[:, 2]) | (F[:, 2] == F[:, 0])
-    return F[~repeated]
+    return F[~repeated_corner_faces(F)]
 
 
 def _flip_caps(V, F, caps):

@@ -34,6 +34,7 @@ __all__ = [
     "needles_and_caps",
     "degenerate_faces",
     "duplicate_faces",
+    "repeated_corner_faces",
     "adjacency_matrix",
     "vertex_face_incidence",
     "unique_integers",
@@ -549,6 +550,13 @@ def needles_and_caps(V, F):
         cos = (b * b + c * c - a * a) / (2 * b * c)  # of the angle opposite the longest edge
     cap = ~needle & (cos <= np.cos(np.radians(CAP_ANGLE)))
     return needle, cap
+
+
+def repeated_corner_faces(F):
+    """Faces with a vertex at two of their corners, (m,) bool (left by merging vertices:
+    no area, and an edge from a vertex to itself)."""
+    F = np.asarray(F)
+    return (F[:, 0] == F[:, 1]) | (F[:, 1] == F[:, 2]) | (F[:, 2] == F[:, 0])
 
 
 def duplicate_faces(F):

@@ -472,8 +472,9 @@ def _remesh_pieces(V, F, label, count, faces, sizing, fixed_boundary, data, repa
     each face, 0..count-1): each piece remeshed on its own with a share of ``faces``
     proportional to its area (at least 4), or more (:func:`_remesh_piece`;
     ``stats["pieces_raised"]``, how many), and the results joined (:func:`join_pieces`,
-    with ``stats["pieces"]``). A piece none of whose remeshes welds back is kept as it is
-    (``stats["pieces_kept"]``, their numbers from 1), unless all are. A piece's error
+    with ``stats["pieces"]``). A piece none of whose remeshes welds back into enough faces
+    close to it is kept as it is (``stats["pieces_kept"]``, their numbers from 1), unless
+    all are. A piece's error
     names the piece."""
     area = np.bincount(label, doublearea(V, F), count)
     results, raised, kept = [], 0, []

@@ -243,9 +243,8 @@ def _far_apart_first(A, verts, rings):
     """The vertices of ``verts`` (in order of priority) none of which is within ``2 rings``
     edges of an earlier one, (p,) bool."""
     ball = _balls(A, verts, rings)
-    near = (ball @ ball.T).tolil()
-    near.setdiag(0)
-    near = near.tocsr()
+    near = (ball @ ball.T).tocsr()
+    near.setdiag(0)  # every ball holds its own vertex: the diagonal is stored already
     near.eliminate_zeros()
     return independent_first(near, np.arange(len(verts)))
 

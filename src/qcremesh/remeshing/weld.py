@@ -16,6 +16,7 @@ from ..mesh.topology import (
     euler_characteristic,
     nonmanifold_edges,
     nonmanifold_vertices,
+    repeated_corner_faces,
 )
 from ..mesh.validate import TopologyError
 from .result import RemeshResult
@@ -71,7 +72,7 @@ def weld_levels(levels, join, chi, loops):
                 len(Fw) > 0
                 and euler_characteristic(Fw) == chi
                 and not len(nonmanifold_edges(Fw))
-                and np.all((Fw != np.roll(Fw, 1, axis=1)).all(axis=1))
+                and not repeated_corner_faces(Fw).any()
                 and not len(duplicate_faces(Fw))
                 and len(boundary_loops(Fw)) == loops
             )
