@@ -15,6 +15,7 @@ from qcremesh.remeshing.onsurface import BoundaryCurve, closest_point_near, near
 from qcremesh.remeshing import relax, snap
 from qcremesh.remeshing.regularize import GOOD_QUALITY, raise_regular_fraction
 from qcremesh.remeshing.relax import relax_on_surface
+from qcremesh.remeshing.smoothing import boundary_arc_steps
 from qcremesh.remeshing.snap import snap_to_far_points
 from qcremesh.remeshing.stars import boundary_deviation
 
@@ -301,6 +302,23 @@ def test_regular_fraction_search_raises_the_share_of_good_faces_on_a_plane():
     assert slid.any() and (np.diff(s) > 0).all()
     np.testing.assert_allclose(X[bnd], curve.at(s)[1], atol=1e-12)
     assert (X[:, 2] == 0).all() and (signed_doublearea(uv, Fo) > 0).all()
+
+
+def test_boundary_arc_steps_are_the_umbrella_along_the_boundary():
+    """A boundary row on the x axis (x = 0..4, arc length s = x) under a row of
+    equilateral apexes: a boundary vertex with the apexes beside it shifted by d along
+    the row moves by the component along the row of the step to the mean of its four
+    neighbours, d / 2; unshifted, by nothing; shifted by 3, by half the way to its
+    neighbour (the clip)."""
+    h = np.sqrt(3) / 2
+    F = np.array([[i, i + 1, 5 + i] for i in range(4)] + [[i + 1, 6 + i, 5 + i] for i in range(3)])
+    ring = adjacency_matrix(F, 9)
+    loop = np.arange(5)
+    s = np.arange(5.0)
+    for d, step in ((0.0, 0.0), (0.2, 0.1), (3.0, 0.5)):
+        X = np.column_stack([np.r_[s, np.arange(4) + 0.5 + d], np.r_[np.zeros(5), np.full(4, h)], np.zeros(9)])
+        out = boundary_arc_steps(X, loop, ring[loop], s - 1, s, s + 1)
+        np.testing.assert_allclose(out[1:4], step, atol=1e-12)
 
 
 def test_boundary_deviation_is_the_sagitta_of_the_output_chords():

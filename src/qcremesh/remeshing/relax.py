@@ -10,9 +10,13 @@ around the face it was on (a local search, so a vertex never jumps to another sh
 the surface across a thin part). Its disk coordinates follow by barycentric interpolation
 of the parameterization on that face. Boundary vertices slide along the input boundary
 polyline: their arc-length position (measured on the boundary smoothed at the landmark
-spacing, so narrow notches are skipped) becomes the mean of their two boundary neighbours';
-boundary corners stay. A vertex whose move would fold one of its faces in the disk stays
-where it is, so the disk mesh stays an embedding and the surface mesh its orientation.
+spacing, so narrow notches are skipped) moves by the component along the boundary of the
+displacement to the mean of all their neighbours
+(:func:`~qcremesh.remeshing.smoothing.boundary_arc_steps`), so that the boundary spacing
+follows the faces along it, or, with a sizing field, towards the mean of their two
+boundary neighbours' in the field's metric; boundary corners stay. A vertex whose move
+would fold one of its faces in the disk stays where it is, so the disk mesh stays an
+embedding and the surface mesh its orientation.
 
 After the sweeps, input vertices left far from the output (pocket bottoms) pull output
 vertices onto them (:mod:`qcremesh.remeshing.snap`), and a search raises the minimum
@@ -43,7 +47,7 @@ from .guard import DistanceGuard
 from .min_quality import QUALITY_FLOOR, raise_min_quality
 from .onsurface import BoundaryCurve, closest_point_near, csr_rows
 from .regularize import raise_regular_fraction
-from .smoothing import edge_lengths, smoothing_sweep
+from .smoothing import boundary_arc_steps, edge_lengths, smoothing_sweep
 from .snap import snap_to_far_points
 
 __all__ = ["relax_on_surface"]
@@ -287,14 +291,21 @@ def relax_on_surface(
         uv[bnd], X[bnd] = curve.at(s)
         pinned = pinned | on_circle
     moved = np.flatnonzero(free)
-    ring = A[moved]
+    ring, ring_bnd = A[moved], A[bnd]
     for _ in range(iterations):
         new_X, new_uv, new_face = smoothing_sweep(X, uv, face, moved, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, step)
-        # boundary: 1D smoothing of arc length along the output boundary loop
+        # boundary: the umbrella's step along it in arc length, or, with a sizing field,
+        # even spacing in its metric (the field's border rule shortens the boundary edges
+        # where the boundary bends; following the faces instead took fran_cut's Hausdorff
+        # distance with the curvature sizing from 0.68 to 0.94 %)
         s_prev, s_next = np.roll(s, 1), np.roll(s, -1)
         s_prev[0] -= perimeter
         s_next[-1] += perimeter
-        s_new = np.where(pinned[bnd], s, s + step * ((s_prev + s_next) / 2 - s))
+        if density is None:
+            along = boundary_arc_steps(X, bnd, ring_bnd, s_prev, s, s_next)
+        else:
+            along = (s_prev + s_next) / 2 - s
+        s_new = np.where(pinned[bnd], s, s + step * along)
         new_uv[bnd], new_X[bnd] = curve.at(s_new)
         revert = _undo_folds(new_X, new_uv, new_face, X, uv, face, Fo)
         s_new[revert[bnd]] = s[revert[bnd]]

@@ -5,7 +5,8 @@ component of that displacement along its vertex normal, by at most a quarter of 
 edge length, and is put back onto the input surface at the closest point among the input
 faces around the one it was on (a local search, so it never jumps to another sheet of the
 surface across a thin part); its disk coordinates follow by barycentric interpolation of
-the parameterization on that face. Used by the relaxation
+the parameterization on that face. A boundary vertex takes the component of the same
+displacement along the boundary, as a step of its arc length. Used by the relaxation
 (:mod:`qcremesh.remeshing.relax`) and by the snapping, which drapes the rings around a
 vertex it pulls after it (:mod:`qcremesh.remeshing.snap`).
 """
@@ -20,7 +21,7 @@ from ..geometry.vectors import norm
 from .compiled import smooth_targets_kernel
 from .onsurface import closest_point_near
 
-__all__ = ["edge_lengths", "smooth_targets", "smoothing_sweep"]
+__all__ = ["boundary_arc_steps", "edge_lengths", "smooth_targets", "smoothing_sweep"]
 
 
 def edge_lengths(X, E):
@@ -103,3 +104,40 @@ def smoothing_sweep(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_f
     new_face[verts], new_X[verts] = f, cp
     new_uv[verts] = interpolate_barycentric(F, f, b, disk_uv)
     return new_X, new_uv, new_face
+
+
+def boundary_arc_steps(X, loop, ring, s_prev, s, s_next):
+    """Arc-length steps that move the vertices of a boundary loop towards the mean of all
+    their neighbours along the boundary, (b,):
+
+        delta_i = ((mean_N(i) x - x_i) . c_i) (s_next,i - s_prev,i) / |c_i|^2,
+        c_i = x_next,i - x_prev,i,
+
+    the component of the umbrella displacement along the chord between the vertex's two
+    boundary neighbours, converted into arc length at the rate the chord spans it, and
+    kept within half the way to either neighbour. The interior neighbours count as the
+    boundary ones do, so the boundary spacing follows the size of the faces along it
+    (the mean of the two boundary neighbours alone spaces the boundary evenly, which
+    shears the boundary faces where the faces inside are larger or smaller).
+
+    Parameters
+    ----------
+    X : (k, 3) float
+        Vertices.
+    loop : (b,) int
+        The boundary loop, in order.
+    ring : (b, k) CSR
+        Its rows of the adjacency matrix.
+    s_prev, s, s_next : (b,) float
+        Arc-length positions of each loop vertex's previous neighbour, itself and its
+        next neighbour along the loop (unwrapped: s_prev < s < s_next).
+
+    Returns
+    -------
+    (b,) float
+    """
+    x = X[loop]
+    umbrella = (ring @ X) / np.diff(ring.indptr)[:, None] - x
+    chord = np.roll(x, -1, axis=0) - np.roll(x, 1, axis=0)
+    along = (umbrella * chord).sum(1) / np.maximum((chord * chord).sum(1), 1e-300)
+    return np.clip(along * (s_next - s_prev), (s_prev - s) / 2, (s_next - s) / 2)
