@@ -209,7 +209,7 @@ def _landmarking(
         return _Landmarking(levels, ni, base_faces, boundary_spacing, theta, corner, np.zeros(0), np.zeros(0), spacing)
     theta, corner = boundary_landmarks(
         V, dm.uv, bnd, nb, corner_angle, None if density is None else density[bnd],
-        corners=corner_at, smooth=not fixed_boundary,
+        corners=corner_at, smooth=not np.any(fixed_boundary),
         spacing=None if boundary_edge_length is None else boundary_edge_length * 2**levels,
     )
     stats["boundary_corners"] = int(corner.sum())

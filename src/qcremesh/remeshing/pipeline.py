@@ -220,13 +220,16 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
 
 
 def _remesh_along_paths(
-    V, F, paths, faces, corners, sizing, data, stats, options, name="crowded", min_levels=None, done=None
+    V, F, paths, faces, corners, sizing, data, stats, options, name="crowded", min_levels=None, done=None, held=None
 ):
     """:func:`remesh` of a disk cut along ``paths`` (from :func:`crowded_cuts`, where
     its map crowds parts of the boundary, or :func:`crease_cuts`) into pieces, each
     remeshed on its own map with a share of the faces by area (counted times sizing^-2
-    with a ``sizing`` field, (n,) or None), a fixed boundary whose corners are the
-    paths' ends and the input vertices ``corners`` on it, and the boundary edge length
+    with a ``sizing`` field, (n,) or None), its boundary fixed along the paths and on
+    the boundary edges between two ``held`` vertices ((n,) bool: the disk's own boundary
+    where that is a seam too; none where None), the rest of it sliding as a disk's
+    does, the paths' ends and the input vertices
+    ``corners`` on it for corners, and the boundary edge length
     planned for the whole (so that both sides of a path get the same vertices; in the
     metric of the sizing field, which each piece scales to a largest value of 1, so with
     the edge length scaled as the piece's field), all at the same levels, and welded along the paths
@@ -266,6 +269,8 @@ def _remesh_along_paths(
             weight = weight * (cut_density[F_cut] ** 2).mean(1)
         area = np.bincount(label, weight, count)
         edge = output_edge_length(V, F, faces, density)
+        on_path = np.zeros(len(V), dtype=bool) if held is None else held.copy()
+        on_path[np.concatenate(paths)] = True
         ends = np.isin(parent, np.concatenate([np.concatenate([p[[0, -1]] for p in paths]), corners]))
         on_boundary = np.zeros(len(parent), dtype=bool)
         on_boundary[boundary_edges(F_cut).ravel()] = True
@@ -319,7 +324,8 @@ def _remesh_along_paths(
                     # the piece's field scaled to a largest value of 1: its density to a least of 1
                     scale = 1.0 if dk is None else dk.min()
                     results[k] = remesh(
-                        Vk, Fk, share, fixed_boundary=True, corners=corners, boundary_edge_length=edge / scale,
+                        Vk, Fk, share, fixed_boundary=on_path[members[k]], corners=corners,
+                        boundary_edge_length=edge / scale,
                         sizing=None if dk is None else 1.0 / dk, data=piece_data, **dict(options, levels=levels),
                     )
                     if done is not None:
@@ -374,7 +380,7 @@ def _fewer_slivers(result, q, again):
     return kept, q_again if better else q, better
 
 
-def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, result, done):
+def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, result, done, held=None):
     """``result`` of :func:`_remesh_along_paths` along the crowded ``paths``, or, where it
     has faces below QUALITY_FLOOR, the pieces holding them are cut again where their own
     maps crowd (:func:`~qcremesh.remeshing.cut_paths.pieces_crowded_cuts`: cutting off a
@@ -390,7 +396,8 @@ def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, optio
     behind a neck one to two faces wide, cut off, left the neck crowded in what was left:
     three rounds at its face count, min q 0.025 -> 0.350, Hausdorff distance 2.96 -> 0.37
     %. ``corners_of(paths)`` gives the corners of the pieces along ``paths``; ``done`` the
-    pieces remeshed so far (see :func:`_remesh_along_paths`)."""
+    pieces remeshed so far and ``held`` the vertices held besides the paths' (see
+    :func:`_remesh_along_paths`)."""
     cut = path_edges(paths)
     recuts = None
     q = radius_ratio(result.V, result.F)
@@ -405,7 +412,7 @@ def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, optio
         paths = edge_paths(more_cut, len(V), stops=boundary_edges(F).ravel())
         again = _remesh_along_paths(
             V, F, paths, faces, corners_of(paths), sizing, data, stats, options, min_levels=result.stats["levels"],
-            done=done,
+            done=done, held=held,
         )
         result, q, better = _fewer_slivers(result, q, again)
         recuts = (recuts or 0) + better
@@ -417,7 +424,7 @@ def _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, optio
     return result
 
 
-def _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, stats, options, result):
+def _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, stats, options, result, held=None):
     """``result``, the remesh of the disk (V, F) whole, or, where it has faces below
     QUALITY_FLOOR and its disk map ``dm`` crowds runs of its boundary (:func:`crowded_cuts`)
     though not enough of it to be cut at once (CROWDED_SHARE), the remesh along those
@@ -425,7 +432,7 @@ def _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, stats, options, r
     faces below the floor (:func:`_fewer_slivers`; ``stats["crowded_after_slivers"]``
     says which, where tried; the times are of both). A scan's border with a protrusion
     behind a neck one or two faces wide: the map crushes what lies beyond, a fan of
-    slivers there."""
+    slivers there. ``held`` as for :func:`_remesh_along_paths`."""
     q = radius_ratio(result.V, result.F)
     if q.min() >= QUALITY_FLOOR:
         return result
@@ -433,9 +440,11 @@ def _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, stats, options, r
     if not paths:
         return result
     done = {}
-    again = _remesh_along_paths(V, F, paths, faces, corners_of(paths), sizing, data, stats, options, done=done)
+    again = _remesh_along_paths(
+        V, F, paths, faces, corners_of(paths), sizing, data, stats, options, done=done, held=held
+    )
     if again is not None:
-        again = _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, again, done)
+        again = _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, again, done, held)
     kept, _, better = _fewer_slivers(result, q, again)
     kept.stats["crowded_after_slivers"] = better
     return kept
@@ -710,13 +719,16 @@ def remesh(
         ones, and the relaxation's boundary vertices, the boundary length weighted by
         sizing^-1; the interior keeps the grading of the landmarks' connectivity. Not
         with ``"uniform"``.
-    fixed_boundary : bool
+    fixed_boundary : bool or (n,) bool
         The boundary landmarks spaced by arc length itself (not smoothed at their
         spacing), and the output's boundary vertices spaced evenly by arc length between
         the boundary corners (all around where there is none) and kept there through
         the relaxation (see :func:`qcremesh.remeshing.relax.relax_on_surface`): parts of
         the border that are the same polyline between corners get the same vertices
-        (the two sides of a cut). Needs ``relax``.
+        (the two sides of a cut). An array over the input vertices keeps them there
+        only on the boundary edges between two True vertices (a piece cut off a disk:
+        its cuts), the others sliding as without (all kept where the input is
+        subdivided first). Needs ``relax``.
     corners : (c,) int, optional
         Input boundary vertices kept as output vertices (boundary corners), besides those
         found by ``corner_angle``.
@@ -785,6 +797,12 @@ def remesh(
         check_crease_angle(creases)
     if creases is not None and (relax == 0 or method == "uniform"):
         raise ValueError("keeping creases needs the relaxation (relax > 0) and a method other than 'uniform'")
+    seams = None
+    if np.ndim(fixed_boundary):
+        seams = np.asarray(fixed_boundary, dtype=bool)
+        if seams.shape != (len(V),):
+            raise ValueError(f"fixed_boundary must be a bool or one per vertex ({len(V)}), got shape {seams.shape}")
+        fixed_boundary = True
     if fixed_boundary and (relax == 0 or method == "uniform"):
         raise ValueError("a fixed boundary needs the relaxation (relax > 0) and a method other than 'uniform'")
     if boundary_edge_length is not None and not (fixed_boundary and boundary_edge_length > 0):
@@ -816,6 +834,8 @@ def remesh(
             V, F, data, sizing, kept = repaired
             if corners is not None:
                 corners = renumbered(corners, kept)
+            if seams is not None:
+                seams = seams[kept]
             # (before the map: the caps that no flip mends can be those along such edges)
             if not fixed_boundary:
                 V, F, data, sizing = refine_long_boundary(V, F, data, sizing, stats)
@@ -853,6 +873,7 @@ def remesh(
                 V, F, data, sizing = refined(V, F, data, sizing, longest)
             dm = disk_conformal_map(V, F)
             stats["subdivided_input"] = len(F)
+            seams = None
     stats.update(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces
     )
@@ -890,11 +911,14 @@ def remesh(
             given = np.union1d(given, twins[np.isin(twins, ends).any(axis=1)].ravel())
         return given
 
+    # the vertices whose boundary edges the pieces keep besides the paths': this disk's
+    # own, where its boundary is held (a seam of a surface cut open)
+    held = seams if seams is not None else np.full(len(V), bool(fixed_boundary))
     done = {}
     for name, paths in attempts:
         try:
             result = _remesh_along_paths(
-                V, F, paths, faces, corners_of(paths), sizing, data, stats, options, name, done=done
+                V, F, paths, faces, corners_of(paths), sizing, data, stats, options, name, done=done, held=held
             )
         except ValueError:
             if name != "crease":
@@ -904,7 +928,9 @@ def remesh(
             # boundary): remeshed without the creases, as where they do not weld
             result = None
         if result is not None and name == "crowded":
-            result = _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, result, done)
+            result = _recut_at_slivers(
+                V, F, paths, faces, corners_of, sizing, data, stats, options, result, done, held
+            )
         if result is not None:
             result.times["parameterize"] = result.times.get("parameterize", 0.0) + clock.times["parameterize"]
             return result
@@ -915,9 +941,9 @@ def remesh(
     result = remesh_disk(
         V, F, dm, faces, levels=levels, method=method, seed=seed, corner_angle=corner_angle,
         cvt_iterations=cvt_iterations, relax=relax, teichmuller_iterations=teichmuller_iterations, retries=retries,
-        sizing=sizing, fixed_boundary=fixed_boundary, corner_at=corner_at, boundary_edge_length=boundary_edge_length,
-        data=data, stats=stats, clock=clock,
+        sizing=sizing, fixed_boundary=fixed_boundary if seams is None else seams, corner_at=corner_at,
+        boundary_edge_length=boundary_edge_length, data=data, stats=stats, clock=clock,
     )
     if attempts or boundary_edge_length is not None or relax == 0 or method == "uniform" or not cut_crowded:
         return result
-    return _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, before, options, result)
+    return _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, before, options, result, held)

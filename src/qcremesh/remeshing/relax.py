@@ -129,6 +129,20 @@ def _evenly_between(s, fixed, perimeter):
     return np.interp(np.where(before, t + b, t), knots, values) - before * perimeter
 
 
+def _on_fixed_edges(on_circle, bnd, s, curve, fixed_boundary):
+    """The output's boundary vertices (``bnd`` at arc lengths ``s`` along ``curve``) that
+    lie on the input boundary edges the ``fixed_boundary`` of :func:`relax_on_surface`
+    keeps: all of them where it is not an array, (k,) bool."""
+    if np.ndim(fixed_boundary) == 0:
+        return on_circle
+    loop = curve.loop
+    edge = np.searchsorted(curve.s, np.mod(s, curve.perimeter), side="right") - 1
+    edge = np.clip(edge, 0, len(loop) - 1)
+    held = np.zeros_like(on_circle)
+    held[bnd] = fixed_boundary[loop[edge]] & fixed_boundary[np.roll(loop, -1)[edge]]
+    return held
+
+
 def _undo_folds(new_X, new_uv, new_face, X, uv, face, Fo):
     """Keep the disk mesh an embedding: put back, in place, the old positions of the
     vertices around faces that the moves fold, until none is folded; which were put back,
@@ -240,11 +254,14 @@ def relax_on_surface(
         as long on one side: 0.55 of the other's, radius ratio 0.981), while the mean
         weighted by the density, which grades by moving the vertices only along its
         gradient, overshoots (0.49) with skewed faces (0.947).
-    fixed_boundary : bool
+    fixed_boundary : bool or (n,) bool
         Space the boundary vertices evenly by arc length (unsmoothed, in the metric of
         ``density``) between the pinned ones (all around the loop where none is) and
         keep them there: parts of the border that are the same polyline between pinned
         vertices and get as many vertices get the same vertices (the two sides of a cut).
+        An array over the input vertices keeps them only on the input boundary edges
+        between two True vertices (the cuts of a piece cut off a disk), and the others
+        slide as without.
     return_faces : bool
         Also return the input face under each vertex.
 
@@ -265,7 +282,8 @@ def relax_on_surface(
         boundary_scale = np.linalg.norm(V[np.roll(loop, -1)] - V[loop], axis=1).sum() / len(bnd)
     # A fixed boundary is spaced by the arc length itself, which is the same both ways
     # along the polyline (the two sides of a slit get the same points).
-    curve = BoundaryCurve(disk_uv, F, V, 0.0 if fixed_boundary else boundary_scale, density)
+    fixed = bool(np.any(fixed_boundary))
+    curve = BoundaryCurve(disk_uv, F, V, 0.0 if fixed else boundary_scale, density)
     perimeter = curve.perimeter
     pinned = np.zeros(k, dtype=bool) if pinned is None else np.array(pinned, dtype=bool)
     on_circle = np.zeros(k, dtype=bool)
@@ -286,10 +304,10 @@ def relax_on_surface(
     X[bnd] = interpolate_on_boundary(curve.theta, curve.points, theta)
     s = curve.arc_length(theta)
     s = s[0] + np.mod(s - s[0], perimeter)  # increasing along the output loop
-    if fixed_boundary:
+    if fixed:
         s = _evenly_between(s, pinned[bnd], perimeter)
         uv[bnd], X[bnd] = curve.at(s)
-        pinned = pinned | on_circle
+        pinned = pinned | _on_fixed_edges(on_circle, bnd, s, curve, fixed_boundary)
     moved = np.flatnonzero(free)
     ring, ring_bnd = A[moved], A[bnd]
     for _ in range(iterations):
