@@ -1,6 +1,7 @@
 """Unit tests of the relaxation stages on planar surfaces, where the answers are known."""
 
 import numpy as np
+import scipy.sparse as sp
 
 from conftest import grid_disk
 from qcremesh.adaptive.basemesh import delaunay_disk_mesh, hexagonal_disk_points
@@ -319,6 +320,33 @@ def test_boundary_arc_steps_are_the_umbrella_along_the_boundary():
         X = np.column_stack([np.r_[s, np.arange(4) + 0.5 + d], np.r_[np.zeros(5), np.full(4, h)], np.zeros(9)])
         out = boundary_arc_steps(X, loop, ring[loop], s - 1, s, s + 1)
         np.testing.assert_allclose(out[1:4], step, atol=1e-12)
+
+
+def test_boundary_step_is_the_even_one_where_the_umbrella_strays_farther(monkeypatch):
+    """On the unit disk, a boundary vertex at angle 0 between neighbours at -0.4 and 0.4,
+    pulled towards 0.35 by an interior neighbour: its umbrella step along the circle
+    (0.053 rad at step 0.5) makes the output boundary stray farther from the circle than
+    staying does (the sagitta over 0.453 rad instead of 0.4), which BOUNDARY_STRAY mean
+    edge lengths allow; with none allowed, it takes the even step (none)."""
+    V, F, uv_in = flat_disk(0.01)
+    curve = BoundaryCurve(uv_in, F, V, 0.01)
+    theta = np.array([-0.4, 0.0, 0.4, 2.0, 4.0])
+    s = curve.arc_length(theta)
+    s = s[0] + np.mod(s - s[0], curve.perimeter)
+    X = np.vstack([curve.at(s)[1], [0.9 * np.cos(0.35), 0.9 * np.sin(0.35), 0.0]])
+    E = np.array([[0, 1], [1, 2], [2, 3], [3, 4], [0, 4], [1, 5]])
+    ring = sp.csr_matrix((np.ones(2 * len(E)), (np.r_[E[:, 0], E[:, 1]], np.r_[E[:, 1], E[:, 0]])), shape=(6, 6))
+    bnd = np.arange(5)
+    s_prev, s_next = np.roll(s, 1), np.roll(s, -1)
+    s_prev[0] -= curve.perimeter
+    s_next[-1] += curve.perimeter
+    pinned = np.array([True, False, True, True, True])
+    args = (X, E, bnd, ring[bnd], s_prev, s, s_next, pinned, curve, 0.5)
+    umbrella = boundary_arc_steps(X, bnd, ring[bnd], s_prev, s, s_next)[1]
+    assert 0.05 < 0.5 * umbrella < 0.06
+    np.testing.assert_allclose(relax._boundary_steps(*args)[1], umbrella)
+    monkeypatch.setattr(relax, "BOUNDARY_STRAY", 0.0)
+    np.testing.assert_allclose(relax._boundary_steps(*args)[1], 0.0, atol=1e-12)
 
 
 def test_boundary_deviation_is_the_sagitta_of_the_output_chords():
