@@ -228,9 +228,8 @@ def _remesh_along_paths(
     with a ``sizing`` field, (n,) or None), its boundary fixed along the paths and on
     the boundary edges between two ``held`` vertices ((n,) bool: the disk's own boundary
     where that is a seam too; none where None), the rest of it sliding as a disk's
-    does, the paths' ends and the input vertices
-    ``corners`` on it for corners, and the boundary edge length
-    planned for the whole (so that both sides of a path get the same vertices; in the
+    does, the paths' ends and the input vertices ``corners`` on it for corners, and the
+    boundary edge length planned for the whole (so that both sides of a path get the same vertices; in the
     metric of the sizing field, which each piece scales to a largest value of 1, so with
     the edge length scaled as the piece's field), all at the same levels, and welded along the paths
     (:func:`qcremesh.mesh.cut.weld_along_paths`, every level; a coarse level that does

@@ -161,7 +161,8 @@ def _boundary_steps(X, E, bnd, ring, s_prev, s, s_next, pinned, curve, step):
     (:func:`~qcremesh.remeshing.smoothing.boundary_arc_steps`), or the step to the mean
     of the two neighbours where the umbrella's takes the output boundary farther from the
     input boundary (:func:`~qcremesh.remeshing.stars.boundary_deviation`) than that one
-    and than BOUNDARY_STRAY mean edge lengths, (b,); 0 at the ``pinned`` ones."""
+    and than BOUNDARY_STRAY mean edge lengths, (b,) (the ``pinned`` ones' unchecked:
+    they do not move)."""
     along = boundary_arc_steps(X, bnd, ring, s_prev, s, s_next)
     even = (s_prev + s_next) / 2 - s
     free = np.flatnonzero(~pinned)
