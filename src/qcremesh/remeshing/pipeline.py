@@ -268,8 +268,9 @@ def _remesh_along_paths(
             weight = weight * (cut_density[F_cut] ** 2).mean(1)
         area = np.bincount(label, weight, count)
         edge = output_edge_length(V, F, faces, density)
-        on_path = np.zeros(len(V), dtype=bool) if held is None else held.copy()
-        on_path[np.concatenate(paths)] = True
+        # the vertices whose boundary edges each piece keeps: the paths' and ``held``
+        keeps = np.zeros(len(V), dtype=bool) if held is None else held.copy()
+        keeps[np.concatenate(paths)] = True
         ends = np.isin(parent, np.concatenate([np.concatenate([p[[0, -1]] for p in paths]), corners]))
         on_boundary = np.zeros(len(parent), dtype=bool)
         on_boundary[boundary_edges(F_cut).ravel()] = True
@@ -323,7 +324,7 @@ def _remesh_along_paths(
                     # the piece's field scaled to a largest value of 1: its density to a least of 1
                     scale = 1.0 if dk is None else dk.min()
                     results[k] = remesh(
-                        Vk, Fk, share, fixed_boundary=on_path[members[k]], corners=corners,
+                        Vk, Fk, share, fixed_boundary=keeps[members[k]], corners=corners,
                         boundary_edge_length=edge / scale,
                         sizing=None if dk is None else 1.0 / dk, data=piece_data, **dict(options, levels=levels),
                     )

@@ -366,7 +366,7 @@ def relax_on_surface(
     if snap > 0:
         snap_to_far_points(
             X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, A_in, disk_uv, vertex_faces,
-            snap * edge_lengths(X, E).mean(),
+            snap * edge_lengths(X, E).mean(), E=E,
         )
     if min_quality > 0 and rounds > 0:
         raise_min_quality(
@@ -378,7 +378,7 @@ def relax_on_surface(
             # polish around, the snapped vertices staying.
             snap_to_far_points(
                 X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, A_in, disk_uv, vertex_faces,
-                snap * edge_lengths(X, E).mean(),
+                snap * edge_lengths(X, E).mean(), E=E,
             )
             raise_min_quality(
                 X, uv, face, s, Fo, A, VF, bnd, pinned | snapped, snapped, V, F, disk_uv, vertex_faces, curve,

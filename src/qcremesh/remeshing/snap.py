@@ -74,7 +74,8 @@ DRAPE_SWEEPS = 20
 
 
 def snap_to_far_points(
-    X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, A_in, disk_uv, vertex_faces, reach, passes=4
+    X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, A_in, disk_uv, vertex_faces, reach, passes=4,
+    E=None,
 ):
     """Move output vertices onto (or towards) the input vertices farthest from the
     output surface: the bottoms of pockets and the tips the output cuts across.
@@ -132,6 +133,9 @@ def snap_to_far_points(
         takes half the mean output edge length).
     passes : int
         Maximum number of passes.
+    E : (e, 2) int, optional
+        The edges of ``Fo`` (:func:`qcremesh.mesh.topology.edges`), where the caller has
+        them.
     """
     # Input vertices within reach of an output vertex are within reach of the output.
     # Only the others are measured, in every pass (one near a vertex that moves away is
@@ -141,6 +145,7 @@ def snap_to_far_points(
     if len(candidates) == 0:
         return
     guard = DistanceGuard(X, Fo, VF, V, reach, query)
+    E = edges(Fo) if E is None else E
     dist = np.zeros(len(V))
     failed = np.zeros(0, dtype=np.int64)  # (far point, vertex) pairs that did not move, as far * k + vertex
     for _ in range(passes):
@@ -178,7 +183,7 @@ def snap_to_far_points(
         if len(short):
             fixed[target[whole]] = True
             draped = _drape_towards(
-                X, uv, face, Fo, A, VF, target[short], far[short], dist[far[short]], fixed, guard, V, F, disk_uv,
+                X, uv, face, Fo, A, VF, E, target[short], far[short], dist[far[short]], fixed, guard, V, F, disk_uv,
                 vertex_faces,
             )
             moved[short[draped]] = whole[short[draped]] = True
@@ -249,7 +254,7 @@ def _far_apart_first(A, verts, rings):
     return independent_first(near, np.arange(len(verts)))
 
 
-def _drape_towards(X, uv, face, Fo, A, VF, target, far, allow, fixed, guard, V, F, disk_uv, vertex_faces):
+def _drape_towards(X, uv, face, Fo, A, VF, E, target, far, allow, fixed, guard, V, F, disk_uv, vertex_faces):
     """Move each output vertex ``target`` onto input vertex ``far`` with the free vertices
     within DRAPE_RINGS edges of it following: the vertex goes all the way, and DRAPE_SWEEPS
     sweeps of tangential smoothing of the others
@@ -271,7 +276,7 @@ def _drape_towards(X, uv, face, Fo, A, VF, target, far, allow, fixed, guard, V, 
     old = X[every].copy(), uv[every].copy(), face[every].copy()
     X[t], uv[t] = V[p], disk_uv[p]
     face[t] = vertex_faces.indices[vertex_faces.indptr[p]]
-    ring, E = A[verts], edges(Fo)
+    ring = A[verts]
     for _ in range(DRAPE_SWEEPS):
         new_X, new_uv, new_face = smoothing_sweep(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, 0.5)
         X[verts], uv[verts], face[verts] = new_X[verts], new_uv[verts], new_face[verts]
