@@ -26,6 +26,7 @@ Figs. 18-20 (d), the default).
 
 from __future__ import annotations
 
+import time
 from dataclasses import replace
 
 import numpy as np
@@ -69,6 +70,7 @@ from .disk_remesh import levels_above_min_base, output_edge_length, planned_leve
 from .min_quality import QUALITY_FLOOR
 from .mend import refine_long_boundary, refined, renumbered, repair_input, upsampled
 from .result import RemeshResult, StageTimes
+from .seams import smooth_seams
 from .weld import WeldError, coincident_pairs, crack_hint, join_pieces, weld_defects, weld_levels
 
 __all__ = ["METHODS", "RemeshResult", "remesh"]
@@ -215,6 +217,10 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     # away: the levels start above the last such one.
     (Vo, Fo, kept), levels = welded
     out_data = {k: np.asarray(v)[kept] for k, v in result.data.items()}
+    started = time.perf_counter()
+    Vo, out_data = smooth_seams(Vo, Fo, V, F, cut, _kept_creases(V, F, options), data, out_data)
+    levels = [(Vo[: len(X)], f) for X, f in levels]
+    result.times["relax"] = result.times.get("relax", 0.0) + time.perf_counter() - started
     stats = dict(repairs, **result.stats, cut_edges=len(cut))
     return RemeshResult(Vo, Fo, result.uv, levels, out_data, result.disk_levels, result.mu, stats, result.times)
 
@@ -343,9 +349,19 @@ def _remesh_along_paths(
         return None
     (Vo, Fo, kept), hierarchy = welded
     out_data = {k: np.asarray(v)[kept] for k, v in joined.data.items()}
+    if name == "crowded":
+        started = time.perf_counter()
+        Vo, out_data = smooth_seams(Vo, Fo, V, F, path_edges(paths), _kept_creases(V, F, options), data, out_data)
+        hierarchy = [(Vo[: len(X)], f) for X, f in hierarchy]
+        joined.times["relax"] = joined.times.get("relax", 0.0) + time.perf_counter() - started
     return RemeshResult(
         Vo, Fo, joined.uv, hierarchy, out_data, joined.disk_levels, joined.mu, joined.stats, joined.times
     )
+
+
+def _kept_creases(V, F, options):
+    """The input edges of the creases kept (``options["creases"]``), (c, 2), or None."""
+    return None if options.get("creases") is None else sharp_edges(V, F, options["creases"])
 
 
 def _joined_paths(paths, border):
