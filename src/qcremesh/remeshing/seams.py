@@ -17,8 +17,9 @@ towards the mean of their neighbours
 surface at the closest point among the input faces around the one each was on
 (:func:`~qcremesh.remeshing.onsurface.closest_point_near`, a local search that does not
 jump across a thin part), the seam vertices too. A vertex whose move turns a face
-against the input surface under it, or takes a face below the smaller of its radius
-ratio and SEAM_FLOOR, stays where it was in that sweep, and so do its neighbours; one
+against the input surface under it (:func:`~qcremesh.remeshing.stars.input_up`, which
+does not judge a face across a fold of the input), or takes a face below the smaller of
+its radius ratio and SEAM_FLOOR, stays where it was in that sweep, and so do its neighbours; one
 whose move takes an input vertex farther from the output than half the mean edge length
 and than it is stays too (:class:`~qcremesh.remeshing.guard.DistanceGuard`). The corners
 of the output faces nearest to input vertices more than a quarter of the mean edge length
@@ -46,15 +47,14 @@ from scipy.spatial import cKDTree
 
 from ..geometry.distance import point_mesh_distance, point_polyline_distance
 from ..geometry.locate import interpolate_barycentric
-from ..geometry.quality import radius_ratio
 from ..geometry.threads import query_workers
-from ..geometry.vectors import cross
 from ..mesh.topology import adjacency_matrix, boundary_edges, edges, vertex_face_incidence
 from .compiled import smooth_targets_kernel
 from .guard import DistanceGuard
 from .onsurface import closest_point_near
 from .project import in_type
 from .smoothing import edge_lengths, smooth_targets
+from .stars import input_face_normals, input_up, surface_side_quality
 
 __all__ = ["smooth_seams"]
 
@@ -65,11 +65,6 @@ SEAM_RINGS = 3
 SEAM_SWEEPS = 20
 SEAM_STEP = 0.5
 SEAM_FLOOR = 0.7
-
-
-def _face_normals(X, F):
-    """Unnormalized face normals (v1 - v0) x (v2 - v0), (m, 3)."""
-    return cross(X[F[:, 1]] - X[F[:, 0]], X[F[:, 2]] - X[F[:, 0]])
 
 
 def _on_edges(X, V, E):
@@ -123,7 +118,7 @@ def smooth_seams(X, Fo, V, F, seam, held=None, data=None, out_data=None, rings=S
     X : (k, 3) float
         New positions (the vertices that did not move as they were).
     out_data : dict of (k, ...) arrays
-        The output attributes at the new positions (``{}`` where ``data`` is None).
+        The output attributes at the new positions (``{}`` where ``out_data`` is None).
 
     The moved vertices are those within ``rings`` of a seam vertex that are neither on
     the output's boundary nor on a ``held`` edge.
@@ -159,7 +154,7 @@ def smooth_seams(X, Fo, V, F, seam, held=None, data=None, out_data=None, rings=S
     face = np.full(k, -1, dtype=np.int64)
     face[corners] = point_mesh_distance(X[corners], V, F)[1]
     Fa = Fo[around]
-    input_normal = _face_normals(V, F)
+    input_normals = input_face_normals(V, F)
     targets_of = smooth_targets_kernel() or smooth_targets
     bary = np.zeros((k, 3))
     moved = np.zeros(k, dtype=bool)
@@ -168,15 +163,14 @@ def smooth_seams(X, Fo, V, F, seam, held=None, data=None, out_data=None, rings=S
         new_face[verts], new_X[verts], new_bary[verts] = closest_point_near(
             targets_of(X, verts, ring, Fo, VF, E, SEAM_STEP), face[verts], V, F, vertex_faces
         )
-        q_old = radius_ratio(X, Fa)
-        up = input_normal[new_face[Fa]].sum(1)
-        was_up = (_face_normals(X, Fa) * up).sum(1) > 0
+        up = input_up(Fa, new_face, input_normals)
+        old = surface_side_quality(X, Fa, up)
         back = np.zeros(k, dtype=bool)
         back[verts[guard.excluded(X, Fo, VF, verts, new_X[verts][:, None])[:, 0]]] = True
         new_X[back], new_face[back], new_bary[back] = X[back], face[back], bary[back]
         while True:
-            bad = ((_face_normals(new_X, Fa) * up).sum(1) <= 0) & was_up
-            bad |= radius_ratio(new_X, Fa) < np.minimum(q_old, SEAM_FLOOR)
+            new = surface_side_quality(new_X, Fa, up)
+            bad = ((new < 0) & (old > 0)) | (np.abs(new) < np.minimum(np.abs(old), SEAM_FLOOR))
             grow = np.zeros(k, dtype=bool)
             grow[Fa[bad].ravel()] = True
             grow &= band & ~back
