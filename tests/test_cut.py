@@ -18,6 +18,7 @@ from qcremesh.mesh.cut import (
     path_edges,
     paths_across,
     paths_to_boundary,
+    points_on_segments,
     shortest_edge_path,
     weld_along_paths,
     weld_cut,
@@ -765,3 +766,17 @@ def test_remesh_shortens_the_edges_where_the_weld_of_a_thin_tail_fails(monkeypat
     monkeypatch.setattr(pipeline, "TRIM_REACH", 0.0)
     with pytest.raises(MeshError, match="^the remesh of the surface cut open does not weld back into its topology$"):
         remesh(V, F, 1200)
+
+
+def test_points_on_segments_either_way_round():
+    """Points on a segment, at its ends, off it by more than tol; the same answer whether
+    the points or the segments are the fewer (the query runs from the smaller set)."""
+    a = np.array([[0.0, 0, 0], [1, 0, 0], [5, 5, 5]])
+    b = np.array([[1.0, 0, 0], [1, 1, 0], [6, 5, 5]])
+    Q = np.array([[0.5, 0, 0], [1, 0.5, 1e-12], [1, 1, 0], [0.5, 1e-6, 0], [2, 0, 0], [5.5, 5, 5]])
+    expected = np.array([True, True, True, False, False, True])
+    assert (points_on_segments(Q, a, b, 1e-9) == expected).all()
+    assert (points_on_segments(Q[:2], a, b, 1e-9) == expected[:2]).all()
+    many = np.tile(a, (3, 1)), np.tile(b, (3, 1))
+    assert (points_on_segments(Q[:2], *many, 1e-9) == expected[:2]).all()
+    assert not points_on_segments(Q, a[:0], b[:0], 1e-9).any()

@@ -28,6 +28,7 @@ __all__ = [
     "path_edges",
     "paths_across",
     "paths_to_boundary",
+    "points_on_segments",
     "shortest_edge_path",
     "weld_along_paths",
     "weld_cut",
@@ -525,27 +526,38 @@ def weld_cut(X, F, segments, tol):
     F = np.asarray(F, dtype=np.int64)
     segments = np.asarray(segments, dtype=np.float64).reshape(-1, 2, 3)
     border = unique_integers(boundary_edges(F))
-    on_cut = border[_on_segments(X[border], segments[:, 0], segments[:, 1], tol)]
+    on_cut = border[points_on_segments(X[border], segments[:, 0], segments[:, 1], tol)]
     pairs = cKDTree(X[on_cut]).query_pairs(tol, output_type="ndarray")
     return _merge(X, F, on_cut[pairs])
 
 
-def _on_segments(Q, a, b, tol):
+def points_on_segments(Q, a, b, tol):
     """Which of points ``Q`` (q, 3) lie within ``tol`` of one of the segments a -> b
     ((s, 3) each), (q,) bool: each point against the segments whose midpoints are within
-    half the longest segment (and ``tol``) of it."""
-    if not len(a):
+    half the longest segment (and ``tol``) of it (found from the smaller of the two sets:
+    the seam of a large remesh has far fewer segments than the output has vertices)."""
+    if not len(a) or not len(Q):
         return np.zeros(len(Q), dtype=bool)
     reach = np.linalg.norm(b - a, axis=1).max() / 2 + tol
-    near = cKDTree((a + b) / 2).query_ball_point(Q, reach)
-    count = np.array([len(c) for c in near])
-    point = np.repeat(np.arange(len(Q)), count)
-    seg = np.concatenate([np.asarray(c, dtype=np.int64) for c in near]) if count.sum() else np.zeros(0, np.int64)
+    mid = (a + b) / 2
+    if len(a) < len(Q):
+        near = cKDTree(Q).query_ball_point(mid, reach)
+        seg, point = _ball_pairs(near)
+    else:
+        point, seg = _ball_pairs(cKDTree(mid).query_ball_point(Q, reach))
     d = b[seg] - a[seg]
     t = np.clip(((Q[point] - a[seg]) * d).sum(1) / np.maximum((d * d).sum(1), 1e-300), 0.0, 1.0)
     on = np.zeros(len(Q), dtype=bool)
     on[point[np.linalg.norm(a[seg] + t[:, None] * d - Q[point], axis=1) <= tol]] = True
     return on
+
+
+def _ball_pairs(near):
+    """The (i, j) pairs of a ball query's lists (``near[i]`` holds the j), (p,), (p,)."""
+    count = np.array([len(c) for c in near], dtype=np.int64)
+    i = np.repeat(np.arange(len(near)), count)
+    j = np.concatenate([np.asarray(c, dtype=np.int64) for c in near]) if count.sum() else np.zeros(0, np.int64)
+    return i, j
 
 
 def _merge(X, F, pairs):
@@ -620,7 +632,7 @@ def weld_along_paths(X, F, paths, tol):
         P = np.asarray(P, dtype=np.float64)
         chains = []
         for loop in loops:
-            on = _on_segments(X[loop], P[:-1], P[1:], tol)
+            on = points_on_segments(X[loop], P[:-1], P[1:], tol)
             ends = [np.linalg.norm(X[loop] - P[i], axis=1) <= tol for i in (0, -1)]
             for i in np.flatnonzero(on & (ends[0] | ends[1])):
                 # forward along the loop, on the path, to the other end

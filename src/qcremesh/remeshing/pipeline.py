@@ -217,10 +217,7 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     # away: the levels start above the last such one.
     (Vo, Fo, kept), levels = welded
     out_data = {k: np.asarray(v)[kept] for k, v in result.data.items()}
-    started = time.perf_counter()
-    Vo, out_data = smooth_seams(Vo, Fo, V, F, cut, _kept_creases(V, F, options), data, out_data)
-    levels = [(Vo[: len(X)], f) for X, f in levels]
-    result.times["relax"] = result.times.get("relax", 0.0) + time.perf_counter() - started
+    Vo, levels, out_data = _seams_smoothed(Vo, Fo, levels, out_data, V, F, cut, data, options, result.times)
     stats = dict(repairs, **result.stats, cut_edges=len(cut))
     return RemeshResult(Vo, Fo, result.uv, levels, out_data, result.disk_levels, result.mu, stats, result.times)
 
@@ -350,18 +347,24 @@ def _remesh_along_paths(
     (Vo, Fo, kept), hierarchy = welded
     out_data = {k: np.asarray(v)[kept] for k, v in joined.data.items()}
     if name == "crowded":
-        started = time.perf_counter()
-        Vo, out_data = smooth_seams(Vo, Fo, V, F, path_edges(paths), _kept_creases(V, F, options), data, out_data)
-        hierarchy = [(Vo[: len(X)], f) for X, f in hierarchy]
-        joined.times["relax"] = joined.times.get("relax", 0.0) + time.perf_counter() - started
+        Vo, hierarchy, out_data = _seams_smoothed(
+            Vo, Fo, hierarchy, out_data, V, F, path_edges(paths), data, options, joined.times
+        )
     return RemeshResult(
         Vo, Fo, joined.uv, hierarchy, out_data, joined.disk_levels, joined.mu, joined.stats, joined.times
     )
 
 
-def _kept_creases(V, F, options):
-    """The input edges of the creases kept (``options["creases"]``), (c, 2), or None."""
-    return None if options.get("creases") is None else sharp_edges(V, F, options["creases"])
+def _seams_smoothed(Vo, Fo, levels, out_data, V, F, seam, data, options, times):
+    """A remesh welded along the input edges ``seam`` with the vertices around them
+    smoothed (:func:`~qcremesh.remeshing.seams.smooth_seams`, the creases kept by
+    ``options["creases"]`` held): its vertices, its ``levels`` (each a prefix of them)
+    and its ``out_data`` at the new positions; the time is added to ``times["relax"]``."""
+    started = time.perf_counter()
+    held = None if options.get("creases") is None else sharp_edges(V, F, options["creases"])
+    Vo, out_data = smooth_seams(Vo, Fo, V, F, seam, held, data, out_data)
+    times["relax"] = times.get("relax", 0.0) + time.perf_counter() - started
+    return Vo, [(Vo[: len(X)], f) for X, f in levels], out_data
 
 
 def _joined_paths(paths, border):

@@ -45,11 +45,10 @@ disk's crowded pieces, then the cut).
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import cKDTree
 
-from ..geometry.distance import point_mesh_distance, point_polyline_distance
+from ..geometry.distance import point_mesh_distance
 from ..geometry.locate import interpolate_barycentric
-from ..geometry.threads import query_workers
+from ..mesh.cut import points_on_segments
 from ..mesh.topology import adjacency_matrix, boundary_edges, edges, vertex_face_incidence
 from .compiled import smooth_targets_kernel
 from .guard import DistanceGuard
@@ -71,20 +70,9 @@ SEAM_FLOOR = 0.7
 
 def _on_edges(X, V, E):
     """Which of the points ``X`` lie on the input edges ``E`` (within 1e-9 of the
-    input's bounding-box diagonal), (k,) bool; measured only for the points within the
-    balls around the edges' midpoints that hold them."""
-    on = np.zeros(len(X), dtype=bool)
-    if not len(E):
-        return on
-    E = np.asarray(E)
-    tol = 1e-9 * np.linalg.norm(np.ptp(V, axis=0))
-    mid = V[E].mean(1)
-    radius = np.linalg.norm(V[E[:, 1]] - V[E[:, 0]], axis=1).max() / 2 + tol
-    near = np.unique(np.concatenate(cKDTree(X).query_ball_point(mid, radius, workers=query_workers(len(mid)))))
-    near = near.astype(np.int64)
-    if len(near):
-        on[near] = point_polyline_distance(X[near], V, E)[0] <= tol
-    return on
+    input's bounding-box diagonal), (k,) bool."""
+    E = np.asarray(E, dtype=np.int64).reshape(-1, 2)
+    return points_on_segments(X, V[E[:, 0]], V[E[:, 1]], 1e-9 * np.linalg.norm(np.ptp(V, axis=0)))
 
 
 def smooth_seams(X, Fo, V, F, seam, held=None, data=None, out_data=None, rings=SEAM_RINGS, sweeps=SEAM_SWEEPS):
