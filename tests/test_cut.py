@@ -534,6 +534,24 @@ def test_weld_along_paths_joins_pieces_but_not_a_slit():
         weld_along_paths(V[parent], F_cut, [V[path] + 1.0], 1e-9)
 
 
+def test_weld_along_paths_drops_flaps_of_both_sides_over_one_run():
+    """Each side has faces with every corner on the chain under an edge across three
+    chain edges (0-3, which then has four faces): all of them go with the chain's inner
+    vertices, and the edge 0-3 joins the two sides' other faces."""
+    chain = np.column_stack([np.arange(4.0), np.zeros(4), np.zeros(4)])
+    X = np.concatenate([chain, [[1.5, 1, 0]], chain, [[1.5, -1, 0]]])
+    above = [[0, 1, 2], [0, 2, 3], [0, 3, 4]]
+    below = [[8, 7, 6], [8, 6, 5], [8, 5, 9]]
+    Xw, Fw, kept = weld_along_paths(X, np.array(above + below), [chain[[0, -1]]], 1e-9)
+    assert len(Fw) == 2 and len(Xw) == 4
+    np.testing.assert_array_equal(np.sort(kept), [0, 3, 4, 9])
+    assert not len(nonmanifold_edges(Fw)) and euler_characteristic(Fw) == 1
+    # one side's flap alone stays: every edge has two faces at most
+    below = [[8, 7, 9], [7, 6, 9], [6, 5, 9]]
+    Xw, Fw, _ = weld_along_paths(X, np.array(above + below), [chain[[0, -1]]], 1e-9)
+    assert len(Fw) == 6 and not len(nonmanifold_edges(Fw))
+
+
 def test_remeshes_apart_with_one_boundary_edge_length_weld():
     """The two halves of a disk remeshed apart, each with a share of the faces by area,
     the path's ends as corners and the same boundary edge length, get the same vertices

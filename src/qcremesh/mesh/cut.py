@@ -16,6 +16,7 @@ from .topology import (
     euler_characteristic,
     genus,
     half_edges,
+    nonmanifold_edges,
     twin_half_edges,
     unique_integers,
 )
@@ -528,7 +529,7 @@ def weld_cut(X, F, segments, tol):
     border = unique_integers(boundary_edges(F))
     on_cut = border[points_on_segments(X[border], segments[:, 0], segments[:, 1], tol)]
     pairs = cKDTree(X[on_cut]).query_pairs(tol, output_type="ndarray")
-    return _merge(X, F, on_cut[pairs])
+    return _merge(X, F, on_cut[pairs])[:3]
 
 
 def points_on_segments(Q, a, b, tol):
@@ -563,8 +564,9 @@ def _ball_pairs(near):
 def _merge(X, F, pairs):
     """Merge the vertices of each of ``pairs`` (p, 2) (and so the groups they link), each
     group into its first vertex at their mean, and drop the pairs of faces the merge
-    folds onto each other; the vertices kept (those of a face), the faces renumbered and
-    the index in ``X`` of each vertex kept."""
+    folds onto each other; the vertices kept (those of a face), the faces renumbered,
+    the index in ``X`` of each vertex kept and the kept vertex each vertex of ``X``
+    became (-1 where none)."""
     linked = unique_integers(pairs)
     local = np.searchsorted(linked, pairs)
     G = sp.csr_matrix((np.ones(len(pairs)), (local[:, 0], local[:, 1])), shape=(len(linked),) * 2)
@@ -586,7 +588,7 @@ def _merge(X, F, pairs):
     keep = np.zeros(len(X), dtype=bool)
     keep[F.ravel()] = True
     new = np.cumsum(keep) - 1
-    return X[keep], new[F], np.flatnonzero(keep)
+    return X[keep], new[F], np.flatnonzero(keep), np.where(keep[target], new[target], -1)
 
 
 def weld_along_paths(X, F, paths, tol):
@@ -599,7 +601,9 @@ def weld_along_paths(X, F, paths, tol):
     (the two sides of a zero-width slit that a path ends on) stay apart. Where both
     pieces have an ear at the same place (a boundary vertex with one face, between two
     vertices of a chain), the weld folds the two faces onto each other: both are dropped,
-    with their middle vertex.
+    with their middle vertex. So are flaps of both sides over a longer run of a chain
+    (faces with every corner on it, under an edge between two of its vertices that both
+    sides have), with the chain's vertices inside the run.
 
     Parameters
     ----------
@@ -653,4 +657,28 @@ def weld_along_paths(X, F, paths, tol):
         if np.abs(X[a] - X[b[::-1]]).max() > tol:
             raise ValueError("the two chains of boundary vertices along a path are not at the same points")
         pairs.append(np.column_stack([a, b[::-1]]))
-    return _merge(X, F, np.concatenate(pairs) if pairs else np.zeros((0, 2), dtype=np.int64))
+    Xw, Fw, kept, welded = _merge(X, F, np.concatenate(pairs) if pairs else np.zeros((0, 2), dtype=np.int64))
+    over = nonmanifold_edges(Fw)
+    if not len(over):
+        return Xw, Fw, kept
+    # Flaps of both sides over the same run of a chain: faces with every corner on the
+    # chain, between the ends of an edge that both sides have across the run (a chord of
+    # three or more chain edges, which then has four faces); all of them go, and the
+    # chain vertices inside the run with them.
+    chain_of = np.full(len(Xw), -1, dtype=np.int64)
+    position = np.full(len(Xw), -1, dtype=np.int64)
+    for c, pair in enumerate(pairs):
+        on = welded[pair[:, 0]] >= 0
+        chain_of[welded[pair[on, 0]]], position[welded[pair[on, 0]]] = c, np.flatnonzero(on)
+    drop = np.zeros(len(Fw), dtype=bool)
+    for u, w in over:
+        if chain_of[u] < 0 or chain_of[u] != chain_of[w]:
+            continue
+        lo, hi = sorted((position[u], position[w]))
+        on_run = (chain_of[Fw] == chain_of[u]) & (position[Fw] >= lo) & (position[Fw] <= hi)
+        drop |= on_run.all(axis=1)
+    Fw = Fw[~drop]
+    keep = np.zeros(len(Xw), dtype=bool)
+    keep[Fw.ravel()] = True
+    new = np.cumsum(keep) - 1
+    return Xw[keep], new[Fw], kept[keep]
