@@ -264,3 +264,24 @@ def holed_disk(k=30, holes=((0.3, 0.3, 0.12), (0.7, 0.6, 0.15)), seed=0):
     V = np.column_stack([uv, 0.3 * np.sin(np.pi * uv[:, 0]) * np.sin(np.pi * uv[:, 1])])
     return V, F
 
+
+def holed_plate(k=30, holes=((0.25, 0.3, 0.12), (0.7, 0.3, 0.12), (0.5, 0.72, 0.14)), thickness=0.1):
+    """A flat plate ``thickness`` thick with round holes through it (x, y, radius in the
+    unit square, as :func:`holed_disk`): the planar triangulation of the square with
+    the holes cut out on both faces, joined along every border by a wall of rows of
+    quads about as high as the grid's spacing. Closed, of genus ``len(holes)``, faces
+    turned outwards."""
+    from qcremesh.mesh.topology import boundary_edges
+
+    V, F = holed_disk(k, holes)
+    n = len(V)
+    rows = max(int(round(thickness * k)), 1)
+    layers = [np.column_stack([V[:, :2], np.full(n, thickness * (0.5 - r / rows))]) for r in range(rows + 1)]
+    a, b = boundary_edges(F).T
+    walls = [
+        np.concatenate([np.column_stack([b, a, a + n]), np.column_stack([b, a + n, b + n])]) + r * n
+        for r in range(rows)
+    ]
+    bottom = F[:, ::-1] + rows * n
+    used, F = np.unique(np.concatenate([F, bottom] + walls), return_inverse=True)
+    return np.concatenate(layers)[used], F.reshape(-1, 3)

@@ -11,6 +11,7 @@ from conftest import (
     cad_trough,
     grid_disk,
     holed_disk,
+    holed_plate,
     shapes,
     shared,
     sphere_mesh,
@@ -492,6 +493,19 @@ def test_remesh_cli_takes_closed_surfaces_holes_and_handles(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == [
         "h.obj", "holes.ply", "r.obj", "sphere.ply", "t.obj", "torus.ply", "two.obj", "two.ply"
     ]
+
+
+def test_remesh_cli_splits_higher_genus_into_charts(tmp_path, capsys):
+    path = tmp_path / "plate.ply"
+    write_mesh(path, *holed_plate())
+    assert main(["remesh", str(path), "-o", str(tmp_path / "r.ply"), "--faces", "4000"]) == 0
+    text = capsys.readouterr().out
+    assert "boundary loops 0, Euler characteristic -4, manifold yes" in text
+    assert re.search(r"\nhigher genus: split into \d+ charts that are disks, remeshed each on its own map and welded "
+                     r"back along \d+ borders \([\d, ]+ faces; the numbers below are the largest's\)\n", text)
+    assert main(["remesh", str(path), "-o", str(tmp_path / "w.ply"), "--faces", "4000", "--whole"]) == 0
+    text = capsys.readouterr().out
+    assert "charts" not in text and re.search(r"\nnot a disk: cut open along \d+ edges", text)
 
 
 def test_remesh_cli_whole_keeps_a_crowded_disk_in_one_piece(tmp_path, capsys):

@@ -224,7 +224,8 @@ def _add_remesh_options(parser):
     parser.add_argument(
         "--whole",
         action="store_true",
-        help="remesh a disk whose map crowds its boundary in one piece, instead of cutting the crowded parts off",
+        help="remesh a disk whose map crowds its boundary in one piece, instead of cutting the crowded parts off "
+        "(and a surface of genus 3 or more cut open into one disk, instead of split into charts)",
     )
     parser.add_argument(
         "--creases",
@@ -453,6 +454,14 @@ def _remesh(args, out):
         print(
             f"cut into {len(st['crowded_piece_faces'])} pieces where the disk map crowds the boundary, remeshed "
             f"each on its own map and welded back ({faces} faces; the numbers below are the largest's)",
+            file=out,
+        )
+    if "chart_cuts" in st:
+        faces = ", ".join(f"{f:,}" for f in st["chart_piece_faces"])
+        print(
+            f"higher genus: split into {len(st['chart_piece_faces'])} charts that are disks, remeshed each on its own "
+            f"map and welded back along {st['chart_cuts']} borders ({faces} faces; the numbers below are the "
+            "largest's)",
             file=out,
         )
     if "crease_edges" in st:
