@@ -11,7 +11,7 @@ from qcremesh.geometry.locate import interpolate_barycentric, locate_points
 from qcremesh.geometry.quality import radius_ratio
 from qcremesh.mesh.cut import cut_to_disk
 from qcremesh.mesh.topology import adjacency_matrix, boundary_edges, edges
-from qcremesh.remeshing.seams import SEAM_RINGS, smooth_seams
+from qcremesh.remeshing.seams import SEAM_FREE_FLOOR, SEAM_RINGS, smooth_seams
 
 
 def sheared_sheet():
@@ -72,6 +72,29 @@ def test_smooth_seams_moves_the_band_on_the_surface_and_keeps_the_rest():
     assert out["colour"].dtype == np.uint8
     assert (out["colour"][~moved] == 0).all() and out["colour"][moved].any()
     assert out_data["colour"].sum() == 0  # not changed in place
+
+
+def test_free_sweeps_smooth_further_and_leave_no_face_worse_than_the_floor():
+    """Free sweeps first (faces may get worse to any shape, then the vertices of those
+    below the smaller of their radius ratio and SEAM_FREE_FLOOR go back): on the bent
+    sheet, the band ends better shaped than with the guarded sweeps alone, only the band
+    moves, on the surface, and the data follow."""
+    V, F, row, column, X, Fo = sheared_sheet()
+    data, out_data = {"xyz": V}, {"xyz": X.copy()}
+    guarded, _ = smooth_seams(X, Fo, V, F, row, held=column)
+    Y, out = smooth_seams(X, Fo, V, F, row, held=column, data=data, out_data=out_data, free_sweeps=20)
+    A = adjacency_matrix(Fo, len(X)).tocsr()
+    near = np.isclose(X[:, 1], 0.5)
+    for _ in range(SEAM_RINGS):
+        near = near | (A @ near.astype(float) > 0)
+    moved = np.linalg.norm(Y - X, axis=1) > 0
+    assert moved.any() and not moved[~near].any() and not moved[np.isclose(X[:, 0], 1.5)].any()
+    assert point_mesh_distance(Y[moved], V, F)[0].max() < 1e-12
+    q0, q1, q2 = radius_ratio(X, Fo), radius_ratio(guarded, Fo), radius_ratio(Y, Fo)
+    band = near[Fo].all(1)
+    assert q2[band].mean() > q1[band].mean()
+    assert (q2 >= np.minimum(q0, SEAM_FREE_FLOOR) - 1e-12).all()
+    assert np.abs(out["xyz"] - Y).max() < 1e-12
 
 
 def test_smooth_seams_without_seam_vertices_returns_the_output_as_it_is():
