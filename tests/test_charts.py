@@ -91,3 +91,17 @@ def test_remesh_in_charts_keeps_boundary_and_attributes():
     assert m["boundary_hausdorff"] < 1e-6
     assert r.data["x"].dtype == np.float32
     np.testing.assert_allclose(r.data["x"], r.V[:, 0], atol=1e-6)
+
+
+@pytest.mark.parametrize("mesh", [holed_plate(), torus_mesh(24), sphere_mesh(800)], ids=["plate", "torus", "sphere"])
+def test_disks_counted_at_once_are_those_counted_one_by_one(mesh):
+    from qcremesh.param.charts import _Adjacency, _disks
+
+    V, F = mesh
+    adjacency = _Adjacency(V, F)
+    rng = np.random.default_rng(0)
+    labelings = [disk_charts(V, F), rng.integers(0, 5, len(F)), (V[F].mean(1)[:, 0] > 0).astype(np.int64)]
+    for labels in labelings:
+        labels = np.unique(labels, return_inverse=True)[1]
+        expected = [_is_disk(F[labels == c]) for c in range(labels.max() + 1)]
+        np.testing.assert_array_equal(_disks(F, labels, adjacency), expected)

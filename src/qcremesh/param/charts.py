@@ -28,7 +28,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components, dijkstra
 
 from ..geometry.operators import doublearea
-from ..mesh.cut import edge_paths
+from ..mesh.cut import _walk_back, edge_paths
 from ..mesh.topology import (
     _edge_keys,
     boundary_edges,
@@ -76,6 +76,9 @@ class _Adjacency:
         m, n = len(F), len(V)
         i, j = twin_half_edges(F)
         self.a, self.b = i % m, j % m
+        self.half = half_edges(F)
+        self.twin = np.full(3 * m, -1, dtype=np.int64)
+        self.twin[i], self.twin[j] = j, i
         self.key = _edge_keys(half_edges(F)[i], n)
         self.length = np.linalg.norm(V[self.key // n] - V[self.key % n], axis=1)
         self.m, self.n = m, n
@@ -93,6 +96,30 @@ class _Adjacency:
         keep = keep & (local[self.a] >= 0) & (local[self.b] >= 0)
         A = sp.csr_matrix((np.ones(keep.sum()), (local[self.a[keep]], local[self.b[keep]])), shape=(len(faces),) * 2)
         return connected_components(A, directed=False)[1]
+
+
+def _disks(F, labels, adjacency):
+    """Which charts are topological disks, (count,) bool: Euler characteristic 1 and one
+    boundary loop each, counted for all charts at once (a chart that touches itself at a
+    vertex has one vertex fewer, so its Euler characteristic is 0)."""
+    count = int(labels.max()) + 1
+    m = adjacency.m
+    faces = np.bincount(labels, minlength=count)
+    vertices = np.bincount(unique_integers(F.ravel() * count + np.repeat(labels, 3)) % count, minlength=count)
+    own = np.tile(labels, 3)
+    twin = adjacency.twin
+    border = (twin < 0) | (labels[np.maximum(twin, 0) % m] != own)
+    border_count = np.bincount(own[border], minlength=count)
+    chi = vertices - (3 * faces + border_count) // 2 + faces
+    # the border's loops: components of its half-edges over (vertex, chart) nodes
+    ends = adjacency.half[border] * count + own[border][:, None]
+    nodes, local = np.unique(ends, return_inverse=True)
+    local = local.reshape(-1, 2)
+    G = sp.csr_matrix((np.ones(len(local)), (local[:, 0], local[:, 1])), shape=(len(nodes),) * 2)
+    _, component = connected_components(G, directed=False)
+    first = np.unique(component, return_index=True)[1]
+    loops = np.bincount(nodes[first] % count, minlength=count)
+    return (chi == 1) & (loops == 1) & (faces > 0)
 
 
 def _face_labels(F, label, distance):
@@ -216,10 +243,7 @@ def _straightened(V, F, labels, G, adjacency):
         length = np.linalg.norm(V[path[1:]] - V[path[:-1]], axis=1).sum()
         if not distance[end] < length * (1 - 1e-3):
             continue
-        walk = [end]
-        while walk[-1] != local[path[0]]:
-            walk.append(previous[walk[-1]])
-        walk = inside[np.array(walk[::-1])]
+        walk = inside[_walk_back(previous, end)]
         crossing = np.isin(adjacency.key, _edge_keys(np.column_stack([walk[:-1], walk[1:]]), n))
         part = adjacency.parts(~crossing, union)
         if part.max() != 1:
@@ -318,8 +342,8 @@ def disk_charts(V, F, count=2, *, lloyd=5, sweeps=20, min_share=0.3, max_rounds=
             sweeps = 0
         previous, added = labels, False
         seeds = [seeds[c] for c in present]
-        not_disks = [c for c in range(len(seeds)) if not _is_disk(F[labels == c])]
-        if not_disks:
+        not_disks = np.flatnonzero(~_disks(F, labels, adjacency))
+        if len(not_disks):
             for c in not_disks:
                 vertices = unique_integers(F[labels == c])
                 seeds.append(int(vertices[np.argmax(distance[vertices])]))
