@@ -584,11 +584,19 @@ def _merge(X, F, pairs):
     # vertex with one face between two vertices that merge with their twins), folded
     # onto each other; both go, and the vertex between them if it has no other face.
     _, face_group, size = np.unique(np.sort(F, axis=1), axis=0, return_inverse=True, return_counts=True)
-    F = F[size[face_group.ravel()] == 1]
+    X, F, kept = _without_unused(X, F[size[face_group.ravel()] == 1])
+    new = np.full(len(target), -1, dtype=np.int64)
+    new[kept] = np.arange(len(kept))
+    return X, F, kept, new[target]
+
+
+def _without_unused(X, F):
+    """The vertices of ``X`` that are corners of ``F``, the faces renumbered to them, and
+    the index in ``X`` of each kept."""
     keep = np.zeros(len(X), dtype=bool)
     keep[F.ravel()] = True
     new = np.cumsum(keep) - 1
-    return X[keep], new[F], np.flatnonzero(keep), np.where(keep[target], new[target], -1)
+    return X[keep], new[F], np.flatnonzero(keep)
 
 
 def weld_along_paths(X, F, paths, tol):
@@ -677,8 +685,5 @@ def weld_along_paths(X, F, paths, tol):
         lo, hi = sorted((position[u], position[w]))
         on_run = (chain_of[Fw] == chain_of[u]) & (position[Fw] >= lo) & (position[Fw] <= hi)
         drop |= on_run.all(axis=1)
-    Fw = Fw[~drop]
-    keep = np.zeros(len(Xw), dtype=bool)
-    keep[Fw.ravel()] = True
-    new = np.cumsum(keep) - 1
-    return Xw[keep], new[Fw], kept[keep]
+    Xw, Fw, still = _without_unused(Xw, Fw[~drop])
+    return Xw, Fw, kept[still]

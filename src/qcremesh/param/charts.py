@@ -31,7 +31,6 @@ from ..geometry.operators import doublearea
 from ..mesh.cut import _walk_back, edge_paths
 from ..mesh.topology import (
     _edge_keys,
-    boundary_edges,
     boundary_loops,
     edges,
     euler_characteristic,
@@ -70,7 +69,8 @@ def _is_disk(F):
 
 class _Adjacency:
     """The faces across each interior edge of (V, F): faces ``a``, ``b`` (k,) and the
-    edge's key and length."""
+    edge's key and length; the half-edges ``half`` (3m, 2), the ``twin`` of each (-1 on
+    the boundary) and the ``boundary`` vertices."""
 
     def __init__(self, V, F):
         m, n = len(F), len(V)
@@ -79,9 +79,16 @@ class _Adjacency:
         self.half = half_edges(F)
         self.twin = np.full(3 * m, -1, dtype=np.int64)
         self.twin[i], self.twin[j] = j, i
-        self.key = _edge_keys(half_edges(F)[i], n)
+        self.boundary = unique_integers(self.half[self.twin < 0])
+        self.key = _edge_keys(self.half[i], n)
         self.length = np.linalg.norm(V[self.key // n] - V[self.key % n], axis=1)
         self.m, self.n = m, n
+
+    def border_half_edges(self, inside):
+        """The half-edges of the faces where ``inside`` (m,) bool whose twin is not
+        such a face (or on the boundary), (3m,) bool."""
+        own = np.tile(inside, 3)
+        return own & ((self.twin < 0) | ~inside[np.maximum(self.twin, 0) % self.m])
 
     def borders(self, labels):
         """Which interior edges separate two charts, (k,) bool."""
@@ -98,6 +105,11 @@ class _Adjacency:
         return connected_components(A, directed=False)[1]
 
 
+def _vertex_charts(F, labels):
+    """Each pair of a vertex and a chart it is in, as vertex * count + chart, sorted."""
+    return unique_integers(F.ravel() * (int(labels.max()) + 1) + np.repeat(labels, 3))
+
+
 def _disks(F, labels, adjacency):
     """Which charts are topological disks, (count,) bool: Euler characteristic 1 and one
     boundary loop each, counted for all charts at once (a chart that touches itself at a
@@ -105,7 +117,7 @@ def _disks(F, labels, adjacency):
     count = int(labels.max()) + 1
     m = adjacency.m
     faces = np.bincount(labels, minlength=count)
-    vertices = np.bincount(unique_integers(F.ravel() * count + np.repeat(labels, 3)) % count, minlength=count)
+    vertices = np.bincount(_vertex_charts(F, labels) % count, minlength=count)
     own = np.tile(labels, 3)
     twin = adjacency.twin
     border = (twin < 0) | (labels[np.maximum(twin, 0) % m] != own)
@@ -179,16 +191,12 @@ def _renumbered(labels):
     return labels.astype(np.int64), present
 
 
-def _border_vertices(F, labels, adjacency):
-    """The vertices on a border between charts or on the surface's boundary, (b,) int."""
-    keys = adjacency.key[adjacency.borders(labels)]
-    return unique_integers(np.r_[keys // adjacency.n, keys % adjacency.n, boundary_edges(F).ravel()])
-
-
 def _centres(G, F, labels, adjacency, count):
-    """Each chart's interior vertex farthest from its border along the edges, (count,)
-    int (-1 for a chart without an interior vertex)."""
-    border = _border_vertices(F, labels, adjacency)
+    """Each chart's interior vertex farthest from its border (between charts, or on the
+    surface's boundary) along the edges, (count,) int (-1 for a chart without an
+    interior vertex)."""
+    keys = adjacency.key[adjacency.borders(labels)]
+    border = unique_integers(np.r_[keys // adjacency.n, keys % adjacency.n, adjacency.boundary])
     distance = dijkstra(G, indices=border, min_only=True)
     chart = np.full(adjacency.n, -1, dtype=np.int64)
     chart[F.ravel()] = np.repeat(labels, 3)
@@ -202,14 +210,11 @@ def _centres(G, F, labels, adjacency, count):
     return centre
 
 
-def _branch_points(F, labels, n):
-    """Where three or more charts meet, or a border meets the surface's boundary, (n,)
-    bool."""
-    count = labels.max() + 1
-    corner_charts = unique_integers(F.ravel() * count + np.repeat(labels, 3))
-    stop = np.bincount(corner_charts // count, minlength=n) >= 3
-    stop[boundary_edges(F).ravel()] = True
-    return stop
+def _branch_points(F, labels, adjacency):
+    """Where three or more charts meet, or a border meets the surface's boundary, (b,)
+    int."""
+    charts_at = np.bincount(_vertex_charts(F, labels) // (int(labels.max()) + 1), minlength=adjacency.n)
+    return unique_integers(np.r_[np.flatnonzero(charts_at >= 3), adjacency.boundary])
 
 
 def _straightened(V, F, labels, G, adjacency):
@@ -219,7 +224,7 @@ def _straightened(V, F, labels, G, adjacency):
     n = adjacency.n
     cut = adjacency.borders(labels)
     keys = adjacency.key[cut]
-    stops = np.flatnonzero(_branch_points(F, labels, n))
+    stops = _branch_points(F, labels, adjacency)
     order = np.argsort(adjacency.key)
     for path in edge_paths(np.column_stack([keys // n, keys % n]), n, stops):
         # (the paths of the borders as they were: one that moved is judged as it is now)
@@ -230,10 +235,11 @@ def _straightened(V, F, labels, G, adjacency):
         A, B = labels[adjacency.a[at]], labels[adjacency.b[at]]
         if A == B:
             continue
-        union = np.flatnonzero((labels == A) | (labels == B))
+        in_union = (labels == A) | (labels == B)
+        union = np.flatnonzero(in_union)
         allowed = np.zeros(n, dtype=bool)
         allowed[F[union].ravel()] = True
-        allowed[boundary_edges(F[union]).ravel()] = False
+        allowed[adjacency.half[adjacency.border_half_edges(in_union)].ravel()] = False
         allowed[path[[0, -1]]] = True
         inside = np.flatnonzero(allowed)
         local = np.full(n, -1, dtype=np.int64)

@@ -258,28 +258,28 @@ def _remesh_charts(V, F, faces, sizing, data, repairs, options):
     (:func:`qcremesh.param.charts.disk_charts`), each remeshed on its own map with its
     border fixed, the branch points of the borders for corners, and welded back
     (:func:`_remesh_along_paths`, the seams smoothed with CHART_FREE_SWEEPS free sweeps
-    first); None where it cannot be split so,
-    or a chart gets too few faces, or the charts do not weld back.
+    first); None where it cannot be split so, or a chart gets too few faces, or the
+    charts do not weld back.
 
     The borders follow input edges and turn at every vertex of them, so no turn of a
     border is a corner (a corner kept on both sides of a jagged border took plate3's
     faces along the seams from mean q 0.952 to 0.910); the corners of the surface's own
     boundary are found on the whole surface (at the turning angle ``corner_angle``, at the
     scale of the output edge) and kept."""
-    edge = output_edge_length(V, F, faces)
-    loops = boundary_loops(F)
-    on_boundary = np.zeros(len(V), dtype=bool)
-    on_boundary[boundary_edges(F).ravel()] = True
-    corners = np.concatenate(
-        [loop[boundary_corners(V, loop, options["corner_angle"], scale=edge)] for loop in loops]
-        + [np.zeros(0, dtype=np.int64)]
-    )
     try:
         labels = disk_charts(V, F)
     except ValueError:
         return None
+    edge = output_edge_length(V, F, faces)
+    loops = boundary_loops(F)
+    none = [np.zeros(0, dtype=np.int64)]
+    corners = np.concatenate(
+        [loop[boundary_corners(V, loop, options["corner_angle"], scale=edge)] for loop in loops] + none
+    )
+    # (the borders' paths end where they meet the boundary)
+    paths = edge_paths(chart_borders(F, labels), len(V), np.concatenate(loops + none))
     return _remesh_along_paths(
-        V, F, edge_paths(chart_borders(F, labels), len(V), on_boundary), faces, corners, sizing, data,
+        V, F, paths, faces, corners, sizing, data,
         dict(repairs, levels=options["levels"]), dict(options, corner_angle=180.0), name="chart",
         topology=(euler_characteristic(F), len(loops)),
     )
