@@ -1,10 +1,11 @@
 import numpy as np
 import pytest
-from conftest import holed_plate, sphere_mesh, torus_mesh
+from conftest import grid_cells, holed_plate, sphere_mesh, torus_mesh
 
 import qcremesh as qc
 from qcremesh.geometry.operators import doublearea
 from qcremesh.geometry.quality import radius_ratio
+from qcremesh.mesh.cut import cut_along_edges
 from qcremesh.mesh.topology import boundary_loops, euler_characteristic, genus, nonmanifold_edges
 from qcremesh.param.charts import chart_borders, disk_charts
 
@@ -13,6 +14,17 @@ def _is_disk(F):
     _, local = np.unique(F, return_inverse=True)
     local = local.reshape(-1, 3)
     return euler_characteristic(local) == 1 and len(boundary_loops(local)) == 1
+
+
+def _charts_are_disks(V, F, labels):
+    # each chart cut out along the borders (a vertex where it touches itself parted)
+    F_cut, _ = cut_along_edges(F, chart_borders(F, labels), len(V))
+    return all(_is_disk(F_cut[labels == c]) for c in range(labels.max() + 1))
+
+
+def _cut_out_is_disk(V, F, inside):
+    F_cut, _ = cut_along_edges(F, chart_borders(F, inside.astype(np.int64)), len(V))
+    return _is_disk(F_cut[inside])
 
 
 @pytest.mark.parametrize(
@@ -24,7 +36,7 @@ def test_disk_charts_split_a_surface_into_disks(mesh):
     assert labels.shape == (len(F),) and labels.dtype == np.int64
     count = labels.max() + 1
     assert count >= 2 and np.array_equal(np.unique(labels), np.arange(count))
-    assert all(_is_disk(F[labels == c]) for c in range(count))
+    assert _charts_are_disks(V, F, labels)
     # the same charts every time
     assert np.array_equal(disk_charts(V, F), labels)
 
@@ -34,7 +46,7 @@ def test_disk_charts_adds_charts_where_one_seed_gives_no_disk():
     V, F = torus_mesh(24)
     labels = disk_charts(V, F, count=1)
     assert labels.max() + 1 >= 2
-    assert all(_is_disk(F[labels == c]) for c in range(labels.max() + 1))
+    assert _charts_are_disks(V, F, labels)
 
 
 @pytest.mark.parametrize("mesh", [holed_plate(), torus_mesh(24)], ids=["plate of genus 3", "torus"])
@@ -46,13 +58,13 @@ def test_disk_charts_merge_small_charts(mesh):
     # it could join so
     labels = disk_charts(V, F, min_share=0.9)
     assert labels.max() + 1 < count
-    assert all(_is_disk(F[labels == c]) for c in range(labels.max() + 1))
+    assert _charts_are_disks(V, F, labels)
     area = np.bincount(labels, doublearea(V, F))
     borders = np.sort(chart_borders(F, labels), axis=1)
     for c in np.flatnonzero(area < 0.9 * area.mean()):
         mine = np.isin(borders, np.unique(F[labels == c])).all(1)
         neighbours = set(labels[np.isin(F, borders[mine]).sum(1) >= 2]) - {c}
-        assert neighbours and not any(_is_disk(F[(labels == c) | (labels == o)]) for o in neighbours)
+        assert neighbours and not any(_cut_out_is_disk(V, F, (labels == c) | (labels == o)) for o in neighbours)
 
 
 def test_chart_borders_are_the_edges_between_charts():
@@ -94,7 +106,7 @@ def test_remesh_in_charts_keeps_boundary_and_attributes():
 
 
 @pytest.mark.parametrize("mesh", [holed_plate(), torus_mesh(24), sphere_mesh(800)], ids=["plate", "torus", "sphere"])
-def test_disks_counted_at_once_are_those_counted_one_by_one(mesh):
+def test_disks_counted_at_once_are_the_charts_cut_out_one_by_one(mesh):
     from qcremesh.param.charts import _Adjacency, _disks
 
     V, F = mesh
@@ -103,5 +115,24 @@ def test_disks_counted_at_once_are_those_counted_one_by_one(mesh):
     labelings = [disk_charts(V, F), rng.integers(0, 5, len(F)), (V[F].mean(1)[:, 0] > 0).astype(np.int64)]
     for labels in labelings:
         labels = np.unique(labels, return_inverse=True)[1]
-        expected = [_is_disk(F[labels == c]) for c in range(labels.max() + 1)]
+        F_cut, _ = cut_along_edges(F, chart_borders(F, labels), len(V))
+        expected = [_is_disk(F_cut[labels == c]) for c in range(labels.max() + 1)]
         np.testing.assert_array_equal(_disks(F, labels, adjacency), expected)
+
+
+def test_a_chart_that_touches_itself_at_a_vertex_is_a_disk_once_cut_out():
+    from qcremesh.param.charts import _Adjacency, _disks
+
+    # 3 x 3 cells: the ring around the centre but for its corner (2, 2) is a C whose ends
+    # touch at the vertex (2, 2); cut along its border, that vertex is two
+    cells = np.array([(i, j) for i in range(3) for j in range(3)])
+    V, F = grid_cells(cells)
+    chart = np.where((cells == 1).all(1), 1, np.where((cells == 2).all(1), 2, 0))
+    labels = np.r_[chart, chart]
+    assert not _is_disk(F[labels == 0])
+    np.testing.assert_array_equal(_disks(F, labels, _Adjacency(V, F)), [True, True, True])
+    # a ring of cells around one is not
+    cells = np.array([(i, j) for i in range(3) for j in range(3)])
+    V, F = grid_cells(cells)
+    centre = ((cells == 1).all(1)).astype(np.int64)
+    np.testing.assert_array_equal(_disks(F, np.r_[centre, centre], _Adjacency(V, F)), [False, True])

@@ -9,8 +9,10 @@ The charts are geodesic Voronoi cells on the edge graph: seeds spread by farthes
 sampling, every vertex labelled with its nearest seed (Dijkstra's algorithm, edges
 weighted by their length), every face with the label of two of its corners (or of the
 corner nearest its seed). Where a chart is not a disk (it runs around a handle or a
-hole, or touches itself at a vertex), a seed is added at its vertex farthest from its
-seed and the cells are drawn again; once all are disks, the seeds move to the vertex of
+hole), a seed is added at its vertex farthest from its seed and the cells are drawn
+again (a chart that touches itself at a vertex is a disk once cut out along the
+borders, as the remesh's pieces are: the cells of a gyroid of genus 28 did not stop
+touching themselves as seeds were added); once all are disks, the seeds move to the vertex of
 their chart farthest from its border (a few rounds of Lloyd's iteration, which evens the
 charts out), the charts are drawn again, still disks. The borders of cells on the edge
 graph are jagged; they are evened out by a majority filter (a face takes the label that
@@ -32,9 +34,11 @@ from ..mesh.cut import _walk_back, edge_paths
 from ..mesh.topology import (
     _edge_keys,
     boundary_loops,
+    corner_fans,
     edges,
     euler_characteristic,
     half_edges,
+    split_nonmanifold_vertices,
     twin_half_edges,
     unique_integers,
 )
@@ -55,12 +59,13 @@ def _edge_graph(V, F):
 
 
 def _is_disk(F):
-    """Whether the faces ``F`` form one topological disk (Euler characteristic 1, one
-    boundary loop, which a surface pinched at a vertex does not have)."""
+    """Whether the faces ``F`` form one topological disk once cut out of the surface
+    (where they touch themselves at a vertex, a vertex per fan of them, as
+    :func:`_disks` counts): Euler characteristic 1 and one boundary loop."""
     if not len(F):
         return False
     _, local = np.unique(F, return_inverse=True)
-    local = local.reshape(-1, 3)
+    local, _ = split_nonmanifold_vertices(local.reshape(-1, 3))
     try:
         return euler_characteristic(local) == 1 and len(boundary_loops(local)) == 1
     except ValueError:
@@ -111,26 +116,33 @@ def _vertex_charts(F, labels):
 
 
 def _disks(F, labels, adjacency):
-    """Which charts are topological disks, (count,) bool: Euler characteristic 1 and one
-    boundary loop each, counted for all charts at once (a chart that touches itself at a
-    vertex has one vertex fewer, so its Euler characteristic is 0)."""
+    """Which charts are topological disks once cut out along their borders, (count,)
+    bool: Euler characteristic 1 and one boundary loop each, counted for all charts at
+    once over the fans of each vertex within a chart (a chart that touches itself at a
+    vertex has two fans there, which the cut along the borders parts, so it is a disk
+    then, as the pieces of the remesh are)."""
     count = int(labels.max()) + 1
     m = adjacency.m
     faces = np.bincount(labels, minlength=count)
-    vertices = np.bincount(_vertex_charts(F, labels) % count, minlength=count)
     own = np.tile(labels, 3)
     twin = adjacency.twin
-    border = (twin < 0) | (labels[np.maximum(twin, 0) % m] != own)
+    inside = (twin >= 0) & (labels[np.maximum(twin, 0) % m] == own)
+    linked = np.flatnonzero(inside & (np.arange(3 * m) < twin))
+    fans, fan = corner_fans(F, (linked, twin[linked]))
+    fan_chart = np.zeros(fans, dtype=np.int64)
+    fan_chart[fan] = own
+    vertices = np.bincount(fan_chart, minlength=count)
+    border = np.flatnonzero(~inside)
     border_count = np.bincount(own[border], minlength=count)
     chi = vertices - (3 * faces + border_count) // 2 + faces
-    # the border's loops: components of its half-edges over (vertex, chart) nodes
-    ends = adjacency.half[border] * count + own[border][:, None]
-    nodes, local = np.unique(ends, return_inverse=True)
-    local = local.reshape(-1, 2)
-    G = sp.csr_matrix((np.ones(len(local)), (local[:, 0], local[:, 1])), shape=(len(nodes),) * 2)
+    # the border's loops: components of its half-edges over the fans they join (half-edge
+    # h = k m + f runs from corner h to corner ((k + 1) mod 3) m + f)
+    ends = np.column_stack([fan[border], fan[(border // m + 1) % 3 * m + border % m]])
+    G = sp.csr_matrix((np.ones(len(ends)), (ends[:, 0], ends[:, 1])), shape=(fans, fans))
     _, component = connected_components(G, directed=False)
-    first = np.unique(component, return_index=True)[1]
-    loops = np.bincount(nodes[first] % count, minlength=count)
+    on_border = unique_integers(ends.ravel())
+    first = np.unique(component[on_border], return_index=True)[1]
+    loops = np.bincount(fan_chart[on_border[first]], minlength=count)
     return (chi == 1) & (loops == 1) & (faces > 0)
 
 
