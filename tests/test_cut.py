@@ -552,6 +552,24 @@ def test_weld_along_paths_drops_flaps_of_both_sides_over_one_run():
     assert len(Fw) == 6 and not len(nonmanifold_edges(Fw))
 
 
+def test_weld_along_paths_takes_the_longest_chains_where_two_paths_share_their_ends():
+    """Two paths from A to B, straight and bent at m: the piece between them is the face
+    (A, B, m), whose edge A-B along the straight path has both ends on the bent one too.
+    The chains along the bent path are that face's and the piece above's, A-m-B; the
+    three pieces weld into one square."""
+    A, B, m = [0.0, 0, 0], [1.0, 0, 0], [0.5, 0.3, 0]
+    below = [A, [0.0, -1, 0], [1.0, -1, 0], B]
+    lens = [A, B, m]
+    above = [A, m, B, [1.0, 1, 0], [0.0, 1, 0]]
+    X = np.array(below + lens + above)
+    F = np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6], [8, 9, 10], [8, 10, 11], [8, 11, 7]])
+    straight, bent = np.array([A, B]), np.array([A, m, B])
+    Xw, Fw, kept = weld_along_paths(X, F, [straight, bent], 1e-9)
+    assert len(Xw) == 7 and len(Fw) == 6
+    assert euler_characteristic(Fw) == 1 and len(boundary_loops(Fw)) == 1 and not len(nonmanifold_edges(Fw))
+    assert np.isclose(doublearea(Xw, Fw).sum() / 2, 2.0)
+
+
 def test_remeshes_apart_with_one_boundary_edge_length_weld():
     """The two halves of a disk remeshed apart, each with a share of the faces by area,
     the path's ends as corners and the same boundary edge length, get the same vertices

@@ -606,7 +606,11 @@ def weld_along_paths(X, F, paths, tol):
     at their mean.
 
     Unlike :func:`weld_cut`, vertices that lie at the same point but not along a path
-    (the two sides of a zero-width slit that a path ends on) stay apart. Where both
+    (the two sides of a zero-width slit that a path ends on) stay apart. Where two paths
+    run between the same two points, a piece between them whose chain along one is a
+    single edge has that edge's two vertices on the other path as well: of the chains
+    found along a path, the longest are its own (where all have only the two ends, all
+    of their copies merge). Where both
     pieces have an ear at the same place (a boundary vertex with one face, between two
     vertices of a chain), the weld folds the two faces onto each other: both are dropped,
     with their middle vertex. So are flaps of both sides over a longer run of a chain
@@ -658,13 +662,22 @@ def weld_along_paths(X, F, paths, tol):
                     if other[j]:
                         chains.append(np.array(chain))
                         break
-        if len(chains) != 2 or len(chains[0]) != len(chains[1]):
+        # A piece between this path and another with the same ends has a chain along
+        # the other one that has only the ends on this one: the longest chains are this
+        # path's (where all are as long, their vertices are the same points: all merge).
+        longest = max((len(c) for c in chains), default=0)
+        if len(chains) > 2 and longest > 2:
+            chains = [c for c in chains if len(c) == longest]
+        if len(chains) < 2 or (len(chains) > 2 and longest > 2) or len(chains[0]) != len(chains[1]):
             sizes = " and ".join(str(len(c)) for c in chains) or "no"
             raise ValueError(f"a path has chains of {sizes} boundary vertices along it, not two alike")
-        a, b = chains
-        if np.abs(X[a] - X[b[::-1]]).max() > tol:
-            raise ValueError("the two chains of boundary vertices along a path are not at the same points")
-        pairs.append(np.column_stack([a, b[::-1]]))
+        first = chains[0]
+        for b in chains[1:]:
+            # (the two sides of a path run along it in opposite directions)
+            b = b[::-1] if np.abs(X[first] - X[b[::-1]]).max() <= tol else b
+            if np.abs(X[first] - X[b]).max() > tol:
+                raise ValueError("the two chains of boundary vertices along a path are not at the same points")
+            pairs.append(np.column_stack([first, b]))
     Xw, Fw, kept, welded = _merge(X, F, np.concatenate(pairs) if pairs else np.zeros((0, 2), dtype=np.int64))
     over = nonmanifold_edges(Fw)
     if not len(over):
