@@ -610,10 +610,9 @@ def weld_along_paths(X, F, paths, tol):
     run between the same two points, a piece between them whose chain along one is a
     single edge has that edge's two vertices on the other path as well: of the chains
     found along a path, the longest are its own (where all have only the two ends, all
-    of their copies merge). Where both
-    pieces have an ear at the same place (a boundary vertex with one face, between two
-    vertices of a chain), the weld folds the two faces onto each other: both are dropped,
-    with their middle vertex. So are flaps of both sides over a longer run of a chain
+    of their copies merge). Where both pieces have an ear at the same place (a boundary
+    vertex with one face, between two vertices of a chain), the weld folds the two faces
+    onto each other: both are dropped, with their middle vertex. So are flaps of both sides over a longer run of a chain
     (faces with every corner on it, under an edge between two of its vertices that both
     sides have), with the chain's vertices inside the run.
 

@@ -12,9 +12,9 @@ corner nearest its seed). Where a chart is not a disk (it runs around a handle o
 hole), a seed is added at its vertex farthest from its seed and the cells are drawn
 again (a chart that touches itself at a vertex is a disk once cut out along the
 borders, as the remesh's pieces are: the cells of a gyroid of genus 28 did not stop
-touching themselves as seeds were added); once all are disks, the seeds move to the vertex of
-their chart farthest from its border (a few rounds of Lloyd's iteration, which evens the
-charts out), the charts are drawn again, still disks. The borders of cells on the edge
+touching themselves as seeds were added); once all are disks, the seeds move to the
+vertex of their chart farthest from its border (a few rounds of Lloyd's iteration,
+which evens the charts out), the charts are drawn again, still disks. The borders of cells on the edge
 graph are jagged; they are evened out by a majority filter (a face takes the label that
 two of its three neighbours share; dropped once a seed added makes no new chart, as the
 filter gave its few faces back), and then each border between two branch points is
