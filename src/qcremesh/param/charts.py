@@ -9,12 +9,12 @@ The charts are geodesic Voronoi cells on the edge graph: seeds spread by farthes
 sampling, every vertex labelled with its nearest seed (Dijkstra's algorithm, edges
 weighted by their length), every face with the label of two of its corners (or of the
 corner nearest its seed). Where a chart is not a disk (it runs around a handle or a
-hole), a seed is added at its vertex farthest from its seed and the cells are drawn
-again (a chart that touches itself at a vertex is a disk once cut out along the
-borders, as the remesh's pieces are: the cells of a gyroid of genus 28 did not stop
-touching themselves as seeds were added); once all are disks, the seeds move to the
-vertex of their chart farthest from its border (a few rounds of Lloyd's iteration,
-which evens the charts out), the charts are drawn again, still disks. The borders of cells on the edge
+hole, or touches itself at a vertex), a seed is added at its vertex farthest from its
+seed and the cells are drawn again (where the seeds added stop making more charts, a
+chart that touches itself at a vertex is taken for a disk, as it is once cut out along
+the borders); once all are disks, the seeds move to the vertex of their chart farthest
+from its border (a few rounds of Lloyd's iteration, which evens the charts out), the
+charts are drawn again, still disks. The borders of cells on the edge
 graph are jagged; they are evened out by a majority filter (a face takes the label that
 two of its three neighbours share; dropped once a seed added makes no new chart, as the
 filter gave its few faces back), and then each border between two branch points is
@@ -38,12 +38,17 @@ from ..mesh.topology import (
     edges,
     euler_characteristic,
     half_edges,
-    split_nonmanifold_vertices,
     twin_half_edges,
     unique_integers,
 )
 
 __all__ = ["chart_borders", "disk_charts"]
+
+# Rounds of added seeds that make no more charts after which a chart touching itself at a
+# vertex counts as a disk: the cells of a marching-cubes gyroid of genus 28 (90,408
+# faces) kept touching themselves, 4 of about 380 charts, as seeds came and went, and
+# the split gave up after 200 rounds.
+STALLED_ROUNDS = 5
 
 # Passes over the borders replacing them by shortest paths (a border that one pass moved
 # is judged again in the next as it then runs).
@@ -59,13 +64,12 @@ def _edge_graph(V, F):
 
 
 def _is_disk(F):
-    """Whether the faces ``F`` form one topological disk once cut out of the surface
-    (where they touch themselves at a vertex, a vertex per fan of them, as
-    :func:`_disks` counts): Euler characteristic 1 and one boundary loop."""
+    """Whether the faces ``F`` form one topological disk (Euler characteristic 1, one
+    boundary loop, which a surface pinched at a vertex does not have)."""
     if not len(F):
         return False
     _, local = np.unique(F, return_inverse=True)
-    local, _ = split_nonmanifold_vertices(local.reshape(-1, 3))
+    local = local.reshape(-1, 3)
     try:
         return euler_characteristic(local) == 1 and len(boundary_loops(local)) == 1
     except ValueError:
@@ -115,34 +119,41 @@ def _vertex_charts(F, labels):
     return unique_integers(F.ravel() * (int(labels.max()) + 1) + np.repeat(labels, 3))
 
 
-def _disks(F, labels, adjacency):
-    """Which charts are topological disks once cut out along their borders, (count,)
-    bool: Euler characteristic 1 and one boundary loop each, counted for all charts at
-    once over the fans of each vertex within a chart (a chart that touches itself at a
-    vertex has two fans there, which the cut along the borders parts, so it is a disk
-    then, as the pieces of the remesh are)."""
+def _disks(F, labels, adjacency, pinched=False):
+    """Which charts are topological disks, (count,) bool: Euler characteristic 1 and one
+    boundary loop each, counted for all charts at once over the (vertex, chart) pairs (a
+    chart that touches itself at a vertex has one vertex fewer, so its Euler
+    characteristic is 0). With ``pinched``, over the fans of each vertex within a chart
+    instead: such a chart is a disk once cut out along the borders, as the pieces of the
+    remesh are."""
     count = int(labels.max()) + 1
     m = adjacency.m
     faces = np.bincount(labels, minlength=count)
     own = np.tile(labels, 3)
     twin = adjacency.twin
     inside = (twin >= 0) & (labels[np.maximum(twin, 0) % m] == own)
-    linked = np.flatnonzero(inside & (np.arange(3 * m) < twin))
-    fans, fan = corner_fans(F, (linked, twin[linked]))
-    fan_chart = np.zeros(fans, dtype=np.int64)
-    fan_chart[fan] = own
-    vertices = np.bincount(fan_chart, minlength=count)
     border = np.flatnonzero(~inside)
+    # the nodes: a vertex of each chart, or with ``pinched`` each fan of its faces there
+    # (half-edge h = k m + f runs from corner h to corner ((k + 1) mod 3) m + f)
+    ends = np.column_stack([border, (border // m + 1) % 3 * m + border % m])
+    if pinched:
+        linked = np.flatnonzero(inside & (np.arange(3 * m) < twin))
+        nodes, node = corner_fans(F, (linked, twin[linked]))
+    else:
+        keys, node = np.unique(F.T.ravel() * count + own, return_inverse=True)
+        nodes = len(keys)
+    node_chart = np.zeros(nodes, dtype=np.int64)
+    node_chart[node] = own
+    vertices = np.bincount(node_chart, minlength=count)
     border_count = np.bincount(own[border], minlength=count)
     chi = vertices - (3 * faces + border_count) // 2 + faces
-    # the border's loops: components of its half-edges over the fans they join (half-edge
-    # h = k m + f runs from corner h to corner ((k + 1) mod 3) m + f)
-    ends = np.column_stack([fan[border], fan[(border // m + 1) % 3 * m + border % m]])
-    G = sp.csr_matrix((np.ones(len(ends)), (ends[:, 0], ends[:, 1])), shape=(fans, fans))
+    # the border's loops: components of its half-edges over the nodes they join
+    ends = node[ends]
+    G = sp.csr_matrix((np.ones(len(ends)), (ends[:, 0], ends[:, 1])), shape=(nodes, nodes))
     _, component = connected_components(G, directed=False)
     on_border = unique_integers(ends.ravel())
     first = np.unique(component[on_border], return_index=True)[1]
-    loops = np.bincount(fan_chart[on_border[first]], minlength=count)
+    loops = np.bincount(node_chart[on_border[first]], minlength=count)
     return (chi == 1) & (loops == 1) & (faces > 0)
 
 
@@ -346,6 +357,7 @@ def disk_charts(V, F, count=2, *, lloyd=5, sweeps=20, min_share=0.3, max_rounds=
         distance = np.minimum(distance, dijkstra(G, indices=seeds[-1]))
     moved = 0
     previous, added = None, False
+    counts, stalled, pinched = [], 0, False
     for _ in range(max_rounds):
         distance, _, source = dijkstra(G, indices=seeds, min_only=True, return_predecessors=True)
         chart_of_seed = np.full(adjacency.n, -1, dtype=np.int64)
@@ -360,7 +372,15 @@ def disk_charts(V, F, count=2, *, lloyd=5, sweeps=20, min_share=0.3, max_rounds=
             sweeps = 0
         previous, added = labels, False
         seeds = [seeds[c] for c in present]
-        not_disks = np.flatnonzero(~_disks(F, labels, adjacency))
+        not_disks = np.flatnonzero(~_disks(F, labels, adjacency, pinched))
+        # Rounds whose seeds added made no more charts than a round of the last few had
+        # (they come and go): from STALLED_ROUNDS of them on, a chart that touches itself
+        # at a vertex is taken for a disk (it is one once cut out along the borders).
+        stalled = stalled + 1 if len(not_disks) and counts and len(present) <= max(counts) else 0
+        counts = (counts + [len(present)])[-STALLED_ROUNDS:]
+        if stalled >= STALLED_ROUNDS and not pinched:
+            pinched = True
+            not_disks = np.flatnonzero(~_disks(F, labels, adjacency, pinched))
         if len(not_disks):
             for c in not_disks:
                 vertices = unique_integers(F[labels == c])
