@@ -14,13 +14,13 @@ seed and the cells are drawn again (where the seeds added stop making more chart
 chart that touches itself at a vertex is taken for a disk, as it is once cut out along
 the borders); once all are disks, the seeds move to the vertex of their chart farthest
 from its border (a few rounds of Lloyd's iteration, which evens the charts out), the
-charts are drawn again, still disks. The borders of cells on the edge
-graph are jagged; they are evened out by a majority filter (a face takes the label that
-two of its three neighbours share; dropped once a seed added makes no new chart, as the
-filter gave its few faces back), and then each border between two branch points is
-replaced by the shortest edge path between them through the two charts it separates,
-where both stay disks. Last, charts of less than ``min_share`` of the mean area are
-merged into the neighbour they share the longest border with, where the union is a disk.
+charts are drawn again, still disks. The borders of cells on the edge graph are jagged;
+they are evened out by a majority filter (a face takes the label that two of its three
+neighbours share; dropped once a seed added makes no new chart, as the filter gave its
+few faces back), and then each border between two branch points is replaced by the
+shortest edge path between them through the two charts it separates, where both stay
+disks. Last, charts of less than ``min_share`` of the mean area are merged into the
+neighbour they share the longest border with, where the union is a disk.
 """
 
 from __future__ import annotations
