@@ -612,9 +612,10 @@ def weld_along_paths(X, F, paths, tol):
     found along a path, the longest are its own (where all have only the two ends, all
     of their copies merge). Where both pieces have an ear at the same place (a boundary
     vertex with one face, between two vertices of a chain), the weld folds the two faces
-    onto each other: both are dropped, with their middle vertex. So are flaps of both sides over a longer run of a chain
-    (faces with every corner on it, under an edge between two of its vertices that both
-    sides have), with the chain's vertices inside the run.
+    onto each other: both are dropped, with their middle vertex. So are flaps of both
+    sides over a longer run of a chain (faces with every corner on it, under an edge
+    between two of its vertices that both sides have), with the chain's vertices inside
+    the run.
 
     Parameters
     ----------

@@ -115,8 +115,10 @@ class _Adjacency:
 
 
 def _vertex_charts(F, labels):
-    """Each pair of a vertex and a chart it is in, as vertex * count + chart, sorted."""
-    return unique_integers(F.ravel() * (int(labels.max()) + 1) + np.repeat(labels, 3))
+    """Each pair of a vertex and a chart it is in, as vertex * count + chart, sorted, and
+    the pair of each corner (corner k m + f is vertex ``F[f, k]`` of face f), (3m,)."""
+    count = int(labels.max()) + 1
+    return np.unique(F.T.ravel() * count + np.tile(labels, 3), return_inverse=True)
 
 
 def _disks(F, labels, adjacency, pinched=False):
@@ -140,8 +142,8 @@ def _disks(F, labels, adjacency, pinched=False):
         linked = np.flatnonzero(inside & (np.arange(3 * m) < twin))
         nodes, node = corner_fans(F, (linked, twin[linked]))
     else:
-        keys, node = np.unique(F.T.ravel() * count + own, return_inverse=True)
-        nodes = len(keys)
+        pairs, node = _vertex_charts(F, labels)
+        nodes = len(pairs)
     node_chart = np.zeros(nodes, dtype=np.int64)
     node_chart[node] = own
     vertices = np.bincount(node_chart, minlength=count)
@@ -236,7 +238,7 @@ def _centres(G, F, labels, adjacency, count):
 def _branch_points(F, labels, adjacency):
     """Where three or more charts meet, or a border meets the surface's boundary, (b,)
     int."""
-    charts_at = np.bincount(_vertex_charts(F, labels) // (int(labels.max()) + 1), minlength=adjacency.n)
+    charts_at = np.bincount(_vertex_charts(F, labels)[0] // (int(labels.max()) + 1), minlength=adjacency.n)
     return unique_integers(np.r_[np.flatnonzero(charts_at >= 3), adjacency.boundary])
 
 

@@ -31,12 +31,12 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..adaptive.landmarks import boundary_corners
 from ..adaptive.sizing import check_sizing, curvature_sizing, hole_sizing, point_sizing
 from ..geometry.creases import check_crease_angle, sharp_edges
 from ..geometry.distance import hausdorff_distance
 from ..geometry.operators import doublearea
 from ..geometry.quality import radius_ratio
-from ..adaptive.landmarks import boundary_corners
 from ..mesh.cut import cut_along_edges, cut_to_disk, edge_paths, path_edges, weld_along_paths, weld_cut
 from ..mesh.topology import (
     boundary_edges,
