@@ -16,6 +16,7 @@ from qcremesh.mesh.cut import (
     cut_to_disk,
     edge_paths,
     path_edges,
+    path_from_tree,
     paths_across,
     paths_to_boundary,
     points_on_segments,
@@ -51,6 +52,15 @@ def test_shortest_edge_path_follows_edges_and_is_shortest():
     G = sp.csr_matrix((length, (E[:, 0], E[:, 1])), shape=(len(V), len(V)))
     shortest = floyd_warshall(G, directed=False)[a, b]
     assert np.isclose(np.linalg.norm(np.diff(V[path], axis=0), axis=1).sum(), shortest, rtol=1e-12)
+
+
+def test_path_from_tree_walks_from_the_root_to_the_end():
+    # a tree of 6 vertices rooted at 0: 0 - 1 - 2 - 3 and 1 - 4 - 5
+    previous = np.array([-9999, 0, 1, 2, 1, 4])
+    np.testing.assert_array_equal(path_from_tree(previous, 5), [0, 1, 4, 5])
+    np.testing.assert_array_equal(path_from_tree(previous, 3), [0, 1, 2, 3])
+    np.testing.assert_array_equal(path_from_tree(previous, 0), [0])
+    assert path_from_tree(previous, 5).dtype == np.int64
 
 
 def test_cut_along_edges_opens_a_sphere_into_a_disk_and_weld_closes_it():

@@ -28,6 +28,7 @@ __all__ = [
     "edge_paths",
     "path_edges",
     "paths_across",
+    "path_from_tree",
     "paths_to_boundary",
     "points_on_segments",
     "shortest_edge_path",
@@ -53,7 +54,7 @@ def shortest_edge_path(V, F, source, target):
     _, previous = dijkstra(G, directed=False, indices=int(source), return_predecessors=True)
     if previous[target] < 0 and target != source:
         raise ValueError(f"no path along the edges joins vertices {source} and {target}")
-    return _walk_back(previous, target)
+    return path_from_tree(previous, target)
 
 
 def paths_across(V, F, ends):
@@ -92,7 +93,7 @@ def paths_across(V, F, ends):
         if previous[target] < 0:
             paths.append(None)
             continue
-        path = _walk_back(previous, target)
+        path = path_from_tree(previous, target)
         blocked[path] = True
         paths.append(path)
     return paths
@@ -239,16 +240,29 @@ def paths_to_boundary(V, F, E):
         reached = np.flatnonzero(target & np.isfinite(dist))
         if not len(reached):
             raise ValueError("no path along the edges joins a part of the edges to the boundary")
-        paths.append(_walk_back(previous, reached[np.argmin(dist[reached])]))
+        paths.append(path_from_tree(previous, reached[np.argmin(dist[reached])]))
         target[members] = True
         target[paths[-1]] = True
     return paths
 
 
-def _walk_back(previous, end):
-    """The path from the root of a shortest path tree (``previous``, the predecessors
-    from scipy's Dijkstra, negative at a root) to ``end``, (k,) int64: one step per
-    vertex of the path, a few hundred on a mesh of 100k vertices."""
+def path_from_tree(previous, end):
+    """The path from the root of a shortest-path tree to one of its vertices.
+
+    One step per vertex of the path (a few hundred on a mesh of 100k vertices).
+
+    Parameters
+    ----------
+    previous : (n,) int
+        The predecessor of each vertex in the tree, negative at a root (the predecessors
+        of :func:`scipy.sparse.csgraph.dijkstra`).
+    end : int
+
+    Returns
+    -------
+    path : (k,) int64
+        The vertices from the root to ``end``, both included.
+    """
     path = [int(end)]
     while previous[path[-1]] >= 0:
         path.append(int(previous[path[-1]]))
@@ -428,7 +442,7 @@ def _handle_loops(V, F, n, g):
     if len(left) != 2 * g:
         raise ValueError(f"the tree-cotree decomposition leaves {len(left)} edges, not {2 * g}")
     # Each loop: the tree paths from the root to the two ends of its edge, and the edge.
-    paths = [_walk_back(previous, end) for e in left for end in E[e]]
+    paths = [path_from_tree(previous, end) for e in left for end in E[e]]
     cut = np.concatenate([E[left], path_edges(paths)])
     cut_keys = unique_integers(_edge_keys(cut, total))
     # out of the caps, off the border
@@ -491,7 +505,7 @@ def _paths_between_loops(V, F, n, loops):
             raise ValueError(
                 f"no path through interior vertices joins the boundary loops of {sizes} edges to the others"
             )
-        path = _walk_back(previous, ends[np.argmin(dist[ends])])
+        path = path_from_tree(previous, ends[np.argmin(dist[ends])])
         joined[loop_of[path[0]]] = True
         used[path] = True
         paths.append(path)

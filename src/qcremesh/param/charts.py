@@ -30,7 +30,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components, dijkstra
 
 from ..geometry.operators import doublearea
-from ..mesh.cut import _walk_back, edge_paths
+from ..mesh.cut import edge_paths, path_from_tree
 from ..mesh.topology import (
     _edge_keys,
     boundary_loops,
@@ -274,7 +274,7 @@ def _straightened(V, F, labels, G, adjacency):
         length = np.linalg.norm(V[path[1:]] - V[path[:-1]], axis=1).sum()
         if not distance[end] < length * (1 - 1e-3):
             continue
-        walk = inside[_walk_back(previous, end)]
+        walk = inside[path_from_tree(previous, end)]
         crossing = np.isin(adjacency.key, _edge_keys(np.column_stack([walk[:-1], walk[1:]]), n))
         part = adjacency.parts(~crossing, union)
         if part.max() != 1:
