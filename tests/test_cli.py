@@ -348,6 +348,8 @@ def test_remesh_cli_errors(tmp_path, capsys):
     triangle.unlink()
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--seed", "-1"]) == 1
     assert capsys.readouterr().err.strip() == "qcremesh: error: --seed must be >= 0"
+    assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--snap", "-0.5"]) == 1
+    assert capsys.readouterr().err.strip() == "qcremesh: error: --snap must be >= 0"
     # a face count no machine has the memory for is refused before the work
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", str(10**13)]) == 1
     assert re.fullmatch(

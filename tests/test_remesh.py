@@ -768,6 +768,26 @@ def test_the_top_of_a_steep_bump_is_kept():
     assert quality["q_min"] >= 0.3 and quality["q_mean"] >= 0.97
 
 
+def test_without_the_snapping_the_top_of_a_steep_bump_is_cut_off():
+    """snap=0 leaves the input vertices far from the output where they are: at half its
+    face count the steep bump's top is cut off (Hausdorff distance 5.4 % of the diagonal
+    against 0.83 % with the default reach), for faces a little more regular (mean q 0.982
+    against 0.979)."""
+    V, F = steep_bump(5)
+    snapped = mesh_quality(*remesh(V, F, faces=len(F) // 2).levels[-1], reference=(V, F))
+    left = mesh_quality(*remesh(V, F, faces=len(F) // 2, snap=0).levels[-1], reference=(V, F))
+    assert left["hausdorff"] > 4 * snapped["hausdorff"]
+    assert left["q_mean"] > snapped["q_mean"] and left["q_min"] >= 0.3
+
+
+@pytest.mark.parametrize("snap", [-0.5, float("nan"), "far"])
+def test_snap_is_a_reach_of_at_least_zero(snap):
+    V, F = grid_disk(8)
+    with pytest.raises(ValueError) as error:
+        remesh(V, F, faces=100, snap=snap)
+    assert str(error.value) == f"snap must be a reach >= 0 in output edge lengths, got {snap!r}"
+
+
 def test_boundary_faces_are_as_regular_as_those_inside():
     """A flat square at 2,000 faces: the boundary vertices slide with the faces beside
     them, so the faces on a boundary edge are nearly as regular as the others (mean q

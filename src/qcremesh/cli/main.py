@@ -5,7 +5,7 @@
     ``v``, their disk coordinates as ``vt`` with the same index, and the input faces as
     ``f a/a b/b c/c``.
 
-``qcremesh remesh INPUT -o OUTPUT [--faces N | --edge-length L] [--levels L] [--method M] [--seed S] [--relax K] [--teichmuller-iterations N] [--sizing S] [--report DIR]``
+``qcremesh remesh INPUT -o OUTPUT [--faces N | --edge-length L] [--levels L] [--method M] [--seed S] [--relax K] [--snap R] [--teichmuller-iterations N] [--sizing S] [--report DIR]``
     Quasi-conformal remeshing (Algorithm 2 and projection) of a disk, or of any manifold
     surface (with holes, closed, with handles: cut open, remeshed and welded; one piece
     or several); the output format follows the
@@ -41,6 +41,7 @@ from ..param.disk import disk_conformal_map
 from ..remeshing.min_quality import QUALITY_FLOOR
 from ..remeshing.mend import LONG_BOUNDARY_RATIO
 from ..remeshing.pipeline import METHODS, PIECE_FACE_RATIO
+from ..remeshing.relax import SNAP_REACH
 
 __all__ = ["main"]
 
@@ -210,6 +211,11 @@ def _add_remesh_options(parser):
         help="tangential relaxation sweeps on the surface (0: the paper's pipeline alone; default 40)",
     )
     parser.add_argument(
+        "--snap", type=float, default=SNAP_REACH, metavar="R",
+        help="after the sweeps, input vertices farther than R mean output edge lengths from the output pull "
+        f"output vertices onto them (default {SNAP_REACH}; 0: a little more regular, farther from the input, sooner)",
+    )
+    parser.add_argument(
         "--teichmuller-iterations", type=int, default=5, metavar="N",
         help="most QC iterations of the Teichmueller map (default 5: after the relaxation more change nothing "
         "measurable; 40 or so run it to its convergence test)",
@@ -249,6 +255,8 @@ def _check_remesh_options(args):
         raise CommandError("--seed must be >= 0")
     if args.relax < 0:
         raise CommandError("--relax must be >= 0")
+    if not (math.isfinite(args.snap) and args.snap >= 0):
+        raise CommandError("--snap must be >= 0")
     if args.teichmuller_iterations < 1:
         raise CommandError("--teichmuller-iterations must be at least 1")
     if args.creases is not None and not 0 < args.creases < 180:
@@ -375,7 +383,7 @@ def _remesh(args, out):
     update, close = _progress()
     try:
         result = remesh(
-            V, F, faces, levels=args.levels, method=args.method, seed=args.seed, relax=args.relax,
+            V, F, faces, levels=args.levels, method=args.method, seed=args.seed, relax=args.relax, snap=args.snap,
             teichmuller_iterations=args.teichmuller_iterations,
             sizing=sizing, cut_crowded=not args.whole, creases=args.creases, data=data, progress=update,
         )
@@ -592,7 +600,8 @@ def _batch(args, out):
         Path(args.report).mkdir(parents=True, exist_ok=True)
     options = dict(
         faces=args.faces, faces_ratio=args.faces_ratio, edge_length=args.edge_length, levels=args.levels,
-        method=args.method, seed=args.seed, relax=args.relax, teichmuller_iterations=args.teichmuller_iterations,
+        method=args.method, seed=args.seed, relax=args.relax, snap=args.snap,
+        teichmuller_iterations=args.teichmuller_iterations,
         sizing=args.sizing, cut_crowded=not args.whole,
         creases=args.creases,
     )

@@ -49,7 +49,7 @@ from ..mesh.subdivide import upsample
 from ..mesh.topology import boundary_edges, boundary_loop, face_edge_lengths
 from .min_quality import QUALITY_FLOOR
 from .project import project_to_surface
-from .relax import relax_on_surface
+from .relax import SNAP_REACH, relax_on_surface
 from .result import RemeshResult, StageTimes
 
 __all__ = [
@@ -285,7 +285,7 @@ def _base_mesh(plan, count, method, cvt_iterations, cvt_seed, run, clock):
 
 
 def _adaptive_mesh(
-    V, F, dm, plan, stretch, density, cvt_seed, first, method, cvt_iterations, teichmuller_iterations, relax,
+    V, F, dm, plan, stretch, density, cvt_seed, first, method, cvt_iterations, teichmuller_iterations, relax, snap,
     fixed_boundary, clock,
 ):
     """The interior landmarks of one draw (``cvt_seed``) to the relaxed output: (disk
@@ -388,7 +388,7 @@ def _adaptive_mesh(
             coarse_F = hierarchy[-2][1]
             coarse_uv, _, coarse_faces = relax_on_surface(
                 dm.uv, F, V, coarse_uv, coarse_F, iterations=relax, pinned=pinned[: len(coarse_uv)],
-                boundary_scale=2 * scale, min_quality=0, regular_rounds=0, density=density,
+                boundary_scale=2 * scale, snap=snap, min_quality=0, regular_rounds=0, density=density,
                 fixed_boundary=fixed_boundary, return_faces=True,
             )
             uv = subdivide_disk_mesh(coarse_uv, coarse_F, 1)[-1][0]
@@ -401,7 +401,7 @@ def _adaptive_mesh(
             # relaxed, its edges are flipped towards six faces at every interior vertex
             # as well, and it is relaxed again (see flip_for_valence).
             uv, X, faces_hint = relax_on_surface(
-                dm.uv, F, V, uv, Fo, iterations=relax, pinned=pinned, boundary_scale=scale, min_quality=0,
+                dm.uv, F, V, uv, Fo, iterations=relax, pinned=pinned, boundary_scale=scale, snap=snap, min_quality=0,
                 regular_rounds=0, density=density, fixed_boundary=fixed_boundary, return_faces=True,
             )
             Fo, flips = flip_for_valence(uv, Fo, X, np.where(on_circle, wanted, 6), bound=bound, monotone=False)
@@ -409,7 +409,7 @@ def _adaptive_mesh(
             run.update(output_valence_flips=flips)
             sweeps = max(relax // 2, 1)
         uv, Vo = relax_on_surface(
-            dm.uv, F, V, uv, Fo, iterations=sweeps, pinned=pinned, boundary_scale=scale, faces=faces_hint,
+            dm.uv, F, V, uv, Fo, iterations=sweeps, pinned=pinned, boundary_scale=scale, snap=snap, faces=faces_hint,
             density=density, fixed_boundary=fixed_boundary,
         )
         if valence_flips and levels == 0:
@@ -430,7 +430,8 @@ def _adaptive_mesh(
 
 def remesh_disk(
     V, F, dm, faces, *, levels, method, seed, corner_angle, cvt_iterations, relax, teichmuller_iterations, retries,
-    sizing=None, fixed_boundary=False, corner_at=None, boundary_edge_length=None, data=None, stats=None, clock=None,
+    snap=SNAP_REACH, sizing=None, fixed_boundary=False, corner_at=None, boundary_edge_length=None, data=None,
+    stats=None, clock=None,
 ):
     """The paper's Algorithm 2 on a disk whose conformal map is known: landmarks, base
     mesh, subdivision, Teichmueller map, relaxation on the surface and projection.
@@ -444,7 +445,7 @@ def remesh_disk(
         Its conformal map onto the unit disk (:func:`qcremesh.param.disk.disk_conformal_map`).
     faces : int
         Output faces wanted.
-    levels, method, seed, corner_angle, cvt_iterations, relax, teichmuller_iterations, retries
+    levels, method, seed, corner_angle, cvt_iterations, relax, teichmuller_iterations, retries, snap
         As for :func:`qcremesh.remeshing.pipeline.remesh`; ``levels`` is already at most
         what keeps the base mesh at MIN_BASE_FACES (:func:`levels_above_min_base`).
     sizing : (n,) float, optional
@@ -513,7 +514,7 @@ def remesh_disk(
         for draw in range(draws):
             candidate = _adaptive_mesh(
                 V, F, dm, plan, stretch, density, seed if draw == 0 else [seed, draw], draw == 0, method,
-                cvt_iterations, teichmuller_iterations, relax, fixed_boundary, clock,
+                cvt_iterations, teichmuller_iterations, relax, snap, fixed_boundary, clock,
             )
             if candidate is None:
                 break

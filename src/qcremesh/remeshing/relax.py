@@ -52,7 +52,10 @@ from .smoothing import boundary_arc_steps, edge_lengths, smoothing_sweep
 from .snap import snap_to_far_points
 from .stars import boundary_deviation
 
-__all__ = ["relax_on_surface"]
+__all__ = ["SNAP_REACH", "relax_on_surface"]
+
+# The snapping's reach, in mean output edge lengths (see relax_on_surface).
+SNAP_REACH = 0.5
 
 # Where the minimum-quality search ends below QUALITY_FLOOR: sweeps of smoothing of the
 # vertices within this many rings of the faces below it, before the search goes on.
@@ -203,7 +206,7 @@ def relax_on_surface(
     step=0.5,
     pinned=None,
     boundary_scale=None,
-    snap=0.5,
+    snap=SNAP_REACH,
     min_quality=0.66,
     rounds=300,
     regular_rounds=20,
