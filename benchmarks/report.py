@@ -397,21 +397,14 @@ def _seeds_section(results):
     return out + [table, ""]
 
 
-def _sizing_section(results):
-    """The curvature sizing beside qcremesh's default run of the remesh part (same mesh,
-    face count and seed), where there is one."""
+def _beside_default(rows, results, title, text):
+    """A section of qcremesh variant runs, each beside qcremesh's default run of the
+    remesh part (same mesh, face count and seed) after a slash, where there is one."""
     default = {
         (r["name"], r["half"]): r["quality"]
         for r in results.get("remesh", [])
         if r["tool"] == "qcremesh" and r["status"] == "ok"
     }
-    out = [
-        "## Sizing\n",
-        "qcremesh with `sizing=\"curvature\"` (edges from 0.4 to 2 times the planned length, "
-        "scaled to even out how far the surface leaves its tangent plane at half an edge, and "
-        "along the border no longer than the same rule gives for the border's bend), one "
-        "run each, seed 0; after the slash, the default (uniform) run of the remesh part.\n",
-    ]
 
     def beside(r, key, fmt):
         q, d = r["quality"], default.get((r["name"], r["half"]))
@@ -422,7 +415,7 @@ def _sizing_section(results):
 
     header = ["mesh", "faces wanted", "time s", "q mean", "q min", "q>0.9", "Hausdorff %"]
     table = _variant_table(
-        results["sizing"],
+        rows,
         header,
         lambda r: [r["name"], f"{r['faces']:,}"],
         lambda r, q: [
@@ -433,7 +426,32 @@ def _sizing_section(results):
             beside(r, "hausdorff", _pct),
         ],
     )
-    return out + [table, ""]
+    return [title, text, table, ""]
+
+
+def _sizing_section(results):
+    """The curvature sizing beside qcremesh's default runs."""
+    return _beside_default(
+        results["sizing"],
+        results,
+        "## Sizing\n",
+        "qcremesh with `sizing=\"curvature\"` (edges from 0.4 to 2 times the planned length, "
+        "scaled to even out how far the surface leaves its tangent plane at half an edge, and "
+        "along the border no longer than the same rule gives for the border's bend), one "
+        "run each, seed 0; after the slash, the default (uniform) run of the remesh part.\n",
+    )
+
+
+def _snap_section(results):
+    """qcremesh without the snapping beside its default runs."""
+    return _beside_default(
+        results["snap"],
+        results,
+        "## Snapping\n",
+        "qcremesh with `snap=0`: the input vertices that the relaxation leaves far from the "
+        "output (pocket bottoms, tips) are not pulled onto (default: those farther than half "
+        "an edge), one run each, seed 0; after the slash, the default run of the remesh part.\n",
+    )
 
 
 def _crease_section(results):
@@ -681,6 +699,8 @@ def markdown(results):
         out += _seeds_section(results)
     if results.get("sizing"):
         out += _sizing_section(results)
+    if results.get("snap"):
+        out += _snap_section(results)
     if results.get("creases"):
         out += _crease_section(results)
     if results.get("scaling"):

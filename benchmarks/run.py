@@ -2,7 +2,7 @@
 
     python benchmarks/run.py [--data DIR] [--out DIR] [--quick] [--parts ...] [--tools ...]
 
-Seven parts; each tool runs in a process of its own (worker.py), kept for its jobs:
+Eight parts; each tool runs in a process of its own (worker.py), kept for its jobs:
 
 * param: disk parameterizations of every disk mesh (qcremesh's Algorithm 1, Tutte, libigl
   harmonic with arc-length boundary, libigl LSCM), with |mu| of the map disk -> surface,
@@ -19,6 +19,8 @@ Seven parts; each tool runs in a process of its own (worker.py), kept for its jo
 * sizing: qcremesh with ``sizing="curvature"`` at both face counts on the eight disk
   meshes of ../shared/data (the quick meshes in quick mode), beside its default runs of
   the remesh part.
+* snap: qcremesh with ``snap=0`` (no snapping onto the input vertices left far from the
+  output) on the same meshes and face counts, beside its default runs.
 * creases: every remesher and qcremesh with ``creases=60`` on synthetic CAD-like surfaces
   with creases (shapes.py: an open box, a closed cube, a plateau, a mesa; the open box only
   in quick mode) at both face counts.
@@ -88,8 +90,8 @@ def parse_args(argv):
     )
     p.add_argument(
         "--parts",
-        default="param,remesh,ablation,seeds,sizing,creases,scaling",
-        help="comma-separated subset of param,remesh,ablation,seeds,sizing,creases,scaling",
+        default="param,remesh,ablation,seeds,sizing,snap,creases,scaling",
+        help="comma-separated subset of param,remesh,ablation,seeds,sizing,snap,creases,scaling",
     )
     p.add_argument("--tools", help="comma-separated subset of the tools (default: all)")
     p.add_argument(
@@ -376,6 +378,13 @@ def sizing_rows(meshes, args):
     return [row for half in (False, True) for row in variant_rows(meshes, names, half, [variant], args)]
 
 
+def snap_rows(meshes, args):
+    """qcremesh without the snapping at the input's face count and at half of it."""
+    names = QUICK_MESHES if args.quick else SIZING_MESHES
+    variant = {"method": "teichmuller", "relax": 40, "snap": 0.0}
+    return [row for half in (False, True) for row in variant_rows(meshes, names, half, [variant], args)]
+
+
 def crease_rows(args):
     """Every remesher, and qcremesh with ``creases=CREASE_ANGLE``, on the synthetic
     surfaces of shapes.py (written as OBJ files to a temporary folder for the workers) at
@@ -444,6 +453,8 @@ def main(argv=None):
         results["seeds"] = seed_rows(meshes, args)
     if "sizing" in args.parts:
         results["sizing"] = sizing_rows(meshes, args)
+    if "snap" in args.parts:
+        results["snap"] = snap_rows(meshes, args)
     if "creases" in args.parts:
         results["creases"] = crease_rows(args)
     if "scaling" in args.parts and (args.data / scaling_name).is_file():

@@ -18,6 +18,7 @@ import numpy as np
 
 import qcremesh
 from qcremesh.geometry.operators import doublearea
+from qcremesh.remeshing.relax import SNAP_REACH
 
 
 class Unavailable(Exception):
@@ -98,14 +99,15 @@ def _qcremesh_remesh(V, F, faces):
     return result.V, result.F, dict(getattr(result, "times", {}))
 
 
-def qcremesh_variant(method, relax, seed=0, sizing=None, creases=None):
+def qcremesh_variant(method, relax, seed=0, sizing=None, creases=None, snap=SNAP_REACH):
     """qcremesh.remesh with one of the paper's ablations (``method``), ``relax``
     relaxation sweeps (0: the paper's pipeline alone), the CVT ``seed``, a ``sizing``
-    (None: uniform) and ``creases`` (an angle in degrees, or None)."""
+    (None: uniform), ``creases`` (an angle in degrees, or None) and the snapping's reach
+    ``snap``."""
 
     def run(V, F, faces):
         result = qcremesh.remesh(
-            V, F, faces=faces, seed=seed, method=method, relax=relax, sizing=sizing, creases=creases
+            V, F, faces=faces, seed=seed, method=method, relax=relax, sizing=sizing, creases=creases, snap=snap
         )
         return result.V, result.F, dict(result.times, draws=result.stats.get("draws", 1))
 
@@ -114,7 +116,7 @@ def qcremesh_variant(method, relax, seed=0, sizing=None, creases=None):
         lambda V, F, faces: faces,
         False,
         f"remesh(V, F, faces=N, method={method!r}, relax={relax}, seed={seed}, sizing={sizing!r}, "
-        f"creases={creases!r})",
+        f"creases={creases!r}, snap={snap})",
     )
 
 
