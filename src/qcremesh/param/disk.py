@@ -39,9 +39,10 @@ boundary), the harmonic measure of the dual boundary cell of a boundary vertex b
 flux (L G)_b, and these fluxes sum to 1. Each boundary vertex goes to the middle of its
 arc, theta_b = 2 pi (sum_{c < b} omega_c + omega_b / 2), and the interior follows from the
 LBS with those boundary values. Measured against the alternatives on the meshes of
-``../shared/data`` (see docs/disk_map.md): this is the most accurate of the linear methods tried
-and needs a single factorization, reused for three solves; its ordering and symbolic
-analysis are those of the Tutte embedding's matrix, which has the same pattern.
+``../shared/data`` (see docs/disk_map.md): this is the most accurate of the linear
+methods tried and needs a single factorization, reused for three solves; its ordering
+and symbolic analysis are those of the Tutte embedding's matrix, which has the same
+pattern.
 
 Normalization of the Moebius freedom: a vertex p in the middle of the region where the
 torsion function (-L u = vertex areas, u = 0 on the boundary) is near its maximum, the
