@@ -9,6 +9,7 @@ from qcremesh.geometry.quality import radius_ratio
 from qcremesh.mesh.io import read_mesh
 from qcremesh.mesh.topology import vertex_face_incidence
 from qcremesh.remeshing.guard import DistanceGuard
+from qcremesh.remeshing.meshes import input_surface, output_mesh
 from qcremesh.remeshing.snap import _move_towards
 
 from conftest import DATA
@@ -104,15 +105,12 @@ def test_the_snapping_stops_short_of_exposing_the_pit():
     0.9 from the output; with the limit 0.6 the vertex goes only part of the way, the
     bottom staying within 0.6; with the limit 10 it goes all the way."""
     V, F, X, Fo = pit()
-    VF = vertex_face_incidence(Fo, len(X))
-    disk_uv, vertex_faces = V[:, :2], vertex_face_incidence(F, len(V))
-    face = locate_points(disk_uv, F, X[:, :2])[0]
+    out, surface = output_mesh(Fo, len(X)), input_surface(V, F, V[:, :2])
+    face = locate_points(surface.disk_uv, F, X[:, :2])[0]
     for limit, all_the_way in ((0.6, False), (10.0, True)):
         Xt, uv, ft = X.copy(), X[:, :2].copy(), face.copy()
-        guard = DistanceGuard(Xt, Fo, VF, V, limit)
-        moved, whole = _move_towards(
-            Xt, uv, ft, Fo, VF, np.array([0]), np.array([1]), np.zeros(1), guard, V, F, disk_uv, vertex_faces
-        )
+        guard = DistanceGuard(Xt, Fo, out.VF, V, limit)
+        moved, whole = _move_towards(Xt, uv, ft, out, surface, np.array([0]), np.array([1]), np.zeros(1), guard)
         assert moved[0] and whole[0] == all_the_way
         bottom = point_triangle_distance(V[[0] * len(Fo)], *Xt[Fo].transpose(1, 0, 2))[0].min()
         if all_the_way:

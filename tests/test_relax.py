@@ -11,6 +11,7 @@ from qcremesh.geometry.operators import signed_doublearea
 from qcremesh.geometry.quality import radius_ratio
 from qcremesh.mesh.subdivide import upsample
 from qcremesh.mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
+from qcremesh.remeshing.meshes import input_surface, output_mesh
 from qcremesh.remeshing.min_quality import raise_min_quality
 from qcremesh.remeshing.onsurface import BoundaryCurve, closest_point_near, nearest_per_owner
 from qcremesh.remeshing import relax, snap
@@ -25,6 +26,20 @@ def plane(k):
     """A k x k grid of the unit square at z = 0, its vertices and their own 2D positions."""
     uv, F = grid_disk(k)
     return np.column_stack([uv, np.zeros(len(uv))]), F, uv
+
+
+def test_the_meshes_of_a_grid():
+    """The bundles the relaxation hands its stages, on a 5 x 5 grid: 16 boundary vertices
+    in the loop, 56 edges (V - E + F = 1), the adjacency symmetric with each edge twice and
+    the incidence each face thrice, the face normals +z, and each vertex's first face in
+    vertex_faces one of its own."""
+    V, F, uv = plane(5)
+    out, surface = output_mesh(F, len(V)), input_surface(V, F, uv)
+    assert len(out.loop) == 16 and len(out.E) == 56 and len(V) - len(out.E) + len(F) == 1
+    assert (out.A != out.A.T).nnz == 0 and out.A.nnz == 2 * len(out.E) and out.VF.nnz == 3 * len(F)
+    np.testing.assert_allclose(surface.normals, np.tile([0.0, 0.0, 1.0], (len(F), 1)))
+    first = surface.vertex_faces.indices[surface.vertex_faces.indptr[:-1]]
+    assert (F[first] == np.arange(len(V))[:, None]).any(1).all()
 
 
 def test_closest_point_near_on_a_plane():
@@ -63,13 +78,11 @@ def _snap(V, F, uv_in, X, Fo, uv, face, snapped=None, partial=None, passes=4):
     pinned = np.zeros(len(X), dtype=bool)
     snapped = np.zeros(len(X), dtype=bool) if snapped is None else snapped
     partial = np.zeros(len(X), dtype=bool) if partial is None else partial
-    A, VF = adjacency_matrix(Fo, len(X)), vertex_face_incidence(Fo, len(X))
-    vertex_faces = vertex_face_incidence(F, len(V))
     E = edges(Fo)
     mean_edge = np.linalg.norm(X[E[:, 0]] - X[E[:, 1]], axis=1).mean()
     snap_to_far_points(
-        X, uv, face, Fo, A, VF, boundary_loop(Fo), pinned, snapped, partial, V, F, adjacency_matrix(F, len(V)), uv_in,
-        vertex_faces, mean_edge, passes,
+        X, uv, face, output_mesh(Fo, len(X)), input_surface(V, F, uv_in), adjacency_matrix(F, len(V)), pinned,
+        snapped, partial, mean_edge, passes,
     )
     assert not pinned.any() and not np.any(partial & ~snapped)
     return snapped
@@ -290,10 +303,7 @@ def test_regular_fraction_search_raises_the_share_of_good_faces_on_a_plane():
     movable[inner[::5]] = False
     movable[bnd[::7]] = False
     before, s_before = X.copy(), s.copy()
-    A, VF = adjacency_matrix(Fo, len(X)), vertex_face_incidence(Fo, len(X))
-    raise_regular_fraction(
-        X, uv, face, s, Fo, A, VF, bnd, movable, V, F, uv_in, vertex_face_incidence(F, len(V)), curve, 20
-    )
+    raise_regular_fraction(X, uv, face, s, output_mesh(Fo, len(X)), input_surface(V, F, uv_in), movable, curve, 20)
     q = radius_ratio(X, Fo)
     assert (q >= GOOD_QUALITY).sum() > (q0 >= GOOD_QUALITY).sum() + 10
     assert q.min() >= min(q0.min(), GOOD_QUALITY) and q.sum() >= q0.sum()
@@ -395,10 +405,10 @@ def test_held_vertex_moves_only_below_its_floor():
     pinned = np.ones(len(uv), dtype=bool)
     pinned[v] = False
     held = ~pinned
-    vf = vertex_face_incidence(F, len(V))
+    out, surface = output_mesh(Fo, len(X)), input_surface(V, F, uv_in)
     for floor, moves in ((0.3, False), (0.4, True)):
         Xt, uvt, facet, st = X.copy(), uv.copy(), face.copy(), s.copy()
-        raise_min_quality(Xt, uvt, facet, st, Fo, A, VF, bnd, pinned, held, V, F, uv_in, vf, curve, 0.4, 5,
+        raise_min_quality(Xt, uvt, facet, st, out, surface, pinned, held, curve, 0.4, 5,
                           held_floor=floor)
         assert np.any(Xt[v] != X[v]) == moves
         if moves:
@@ -416,12 +426,11 @@ def test_tangent_candidates_of_a_folded_star_stay_at_the_vertex():
     # an output vertex at the centre with two faces folded onto each other
     X = np.array([[0.5, 0.5, 0.0], [0.7, 0.5, 0.0], [0.5, 0.7, 0.0]])
     Fo = np.array([[0, 1, 2], [0, 2, 1]])
-    VF = vertex_face_incidence(Fo, len(X)).tocsr()
     face = locate_points(uv, F, X[:, :2])[0]
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         Xc, uvc, fc = tangent_candidates(
-            X, Fo, VF, np.array([0]), np.array([0.1]), face, V, F, uv, vertex_face_incidence(F, len(V)).tocsr(),
+            X, output_mesh(Fo, len(X)), np.array([0]), np.array([0.1]), face, input_surface(V, F, uv),
             np.array([0.5, 1.0]),
         )
     np.testing.assert_allclose(Xc[0], np.broadcast_to(X[0], Xc[0].shape), atol=1e-12)

@@ -15,7 +15,6 @@ from .onsurface import csr_rows
 from .stars import (
     StarQuality,
     boundary_candidates,
-    input_face_normals,
     mean_edge_length,
     star_radius_ratios,
     tangent_candidates,
@@ -44,8 +43,7 @@ _PATIENCE = 30
 
 
 def raise_min_quality(
-    X, uv, face, s, Fo, A, VF, bnd, pinned, held, V, F, disk_uv, vertex_faces, curve, target, rounds,
-    held_floor=QUALITY_FLOOR, guard=None,
+    X, uv, face, s, out, surface, pinned, held, curve, target, rounds, held_floor=QUALITY_FLOOR, guard=None
 ):
     """Pattern search that raises the smallest radius ratio of the faces around the
     vertices of the worst faces, in place.
@@ -72,26 +70,15 @@ def raise_min_quality(
         Input face under each output vertex, -1 on the boundary (updated).
     s : (b,) float
         Arc length of the output boundary vertices along ``curve`` (updated).
-    Fo : (l, 3) int
-        Output faces.
-    A : (k, k) CSR
-        Vertex adjacency of ``Fo``.
-    VF : (k, l) CSR
-        Vertex-face incidence of ``Fo``.
-    bnd : (b,) int
-        Output boundary loop.
+    out : OutputMesh
+        The output's connectivity (:class:`~qcremesh.remeshing.meshes.OutputMesh`).
+    surface : InputSurface
+        The input surface and its disk map (:class:`~qcremesh.remeshing.meshes.InputSurface`).
     pinned : (k,) bool
         Vertices that stay.
     held : (k,) bool
         Vertices that move only when a face around them has a radius ratio below
         ``held_floor`` (those snapped onto the input, which keep the output close to it).
-    V : (n, 3) float
-    F : (m, 3) int
-        The input surface.
-    disk_uv : (n, 2) float
-        Its disk parameterization.
-    vertex_faces : (n, m) sparse
-        Vertex-face incidence of the input.
     curve : BoundaryCurve
         The input boundary.
     target : float
@@ -105,12 +92,13 @@ def raise_min_quality(
         output (:class:`~qcremesh.remeshing.guard.DistanceGuard`).
     """
     k = len(X)
+    Fo, A, VF, bnd = out.F, out.A, out.VF, out.loop
     where_bnd = np.full(k, -1)
     where_bnd[bnd] = np.arange(len(bnd))
     # Faces turned over on the surface (in pockets the disk map compresses, a face can be
     # counter-clockwise in the disk and still face into the surface) count as negative
     # quality, so the search turns them back first.
-    input_normals = input_face_normals(V, F)
+    input_normals = surface.normals
     quality = StarQuality(X, Fo, VF, face, input_normals)
     q, qv = quality.q, quality.qv
     stuck = np.zeros(k, dtype=bool)
@@ -128,7 +116,7 @@ def raise_min_quality(
         gain = np.zeros(len(sel), dtype=bool)
         inner = sel[~on_bnd]
         if len(inner):
-            Xc, uvc, fc = tangent_candidates(X, Fo, VF, inner, reach[inner], face, V, F, disk_uv, vertex_faces, _STEPS)
+            Xc, uvc, fc = tangent_candidates(X, out, inner, reach[inner], face, surface, _STEPS)
             score = _star_scores(X, uv, Fo, VF, inner, Xc, uvc, face, input_normals)
             if guard is not None:
                 score[guard.excluded(X, Fo, VF, inner, Xc)] = -np.inf

@@ -54,7 +54,6 @@ from .stars import (
     StarQuality,
     boundary_candidates,
     boundary_deviation,
-    input_face_normals,
     mean_edge_length,
     star_radius_ratios,
     tangent_candidates,
@@ -93,9 +92,7 @@ def _with_staying(here, candidates):
     return np.concatenate([here[:, None], candidates], axis=1)
 
 
-def raise_regular_fraction(
-    X, uv, face, s, Fo, A, VF, bnd, movable, V, F, disk_uv, vertex_faces, curve, rounds, guard=None
-):
+def raise_regular_fraction(X, uv, face, s, out, surface, movable, curve, rounds, guard=None):
     """Pattern search that raises the number of faces with a radius ratio of at least
     0.9, in place (see the module documentation).
 
@@ -116,23 +113,12 @@ def raise_regular_fraction(
         Input face under each output vertex, -1 on the boundary (updated).
     s : (b,) float
         Arc length of the output boundary vertices along ``curve`` (updated).
-    Fo : (l, 3) int
-        Output faces.
-    A : (k, k) CSR
-        Vertex adjacency of ``Fo``.
-    VF : (k, l) CSR
-        Vertex-face incidence of ``Fo``.
-    bnd : (b,) int
-        Output boundary loop.
+    out : OutputMesh
+        The output's connectivity (:class:`~qcremesh.remeshing.meshes.OutputMesh`).
+    surface : InputSurface
+        The input surface and its disk map (:class:`~qcremesh.remeshing.meshes.InputSurface`).
     movable : (k,) bool
         Vertices that may move.
-    V : (n, 3) float
-    F : (m, 3) int
-        The input surface.
-    disk_uv : (n, 2) float
-        Its disk parameterization.
-    vertex_faces : (n, m) sparse
-        Vertex-face incidence of the input.
     curve : BoundaryCurve
         The input boundary.
     rounds : int
@@ -142,9 +128,10 @@ def raise_regular_fraction(
         output (:class:`~qcremesh.remeshing.guard.DistanceGuard`).
     """
     k = len(X)
+    Fo, A, VF, bnd = out.F, out.A, out.VF, out.loop
     where_bnd = np.full(k, -1)
     where_bnd[bnd] = np.arange(len(bnd))
-    input_normals = input_face_normals(V, F)
+    input_normals = surface.normals
     quality = StarQuality(X, Fo, VF, face, input_normals)
     stuck = np.zeros(k, dtype=bool)
     for _ in range(rounds):
@@ -157,9 +144,7 @@ def raise_regular_fraction(
         inner, outer = sel[~on_bnd], sel[on_bnd]
         better = np.zeros(len(sel), dtype=bool)
         if len(inner):
-            Xc, uvc, fc = tangent_candidates(
-                X, Fo, VF, inner, reach[~on_bnd], face, V, F, disk_uv, vertex_faces, _STEPS
-            )
+            Xc, uvc, fc = tangent_candidates(X, out, inner, reach[~on_bnd], face, surface, _STEPS)
             Xc, uvc, fc = _with_staying(X[inner], Xc), _with_staying(uv[inner], uvc), _with_staying(face[inner], fc)
             excluded = None if guard is None else guard.excluded(X, Fo, VF, inner, Xc)
             j, ok = _best_candidates(X, uv, Fo, VF, inner, Xc, uvc, face, input_normals, excluded)

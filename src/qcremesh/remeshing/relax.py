@@ -43,8 +43,9 @@ from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
 from ..geometry.threads import query_workers
 from ..geometry.vectors import norm
-from ..mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
+from ..mesh.topology import adjacency_matrix, boundary_loop
 from .guard import DistanceGuard
+from .meshes import input_surface, output_mesh
 from .min_quality import QUALITY_FLOOR, raise_min_quality
 from .onsurface import BoundaryCurve, closest_point_near, csr_rows
 from .regularize import raise_regular_fraction
@@ -312,7 +313,8 @@ def relax_on_surface(
     """
     uv = np.array(uv, dtype=np.float64)
     k = len(uv)
-    bnd = boundary_loop(Fo)
+    out = output_mesh(Fo, k)
+    bnd = out.loop
     if boundary_scale is None:
         loop = boundary_loop(F)
         boundary_scale = np.linalg.norm(V[np.roll(loop, -1)] - V[loop], axis=1).sum() / len(bnd)
@@ -326,10 +328,9 @@ def relax_on_surface(
     on_circle[bnd] = True
     inner = np.flatnonzero(~on_circle)
     free = ~on_circle & ~pinned
-    A = adjacency_matrix(Fo, k)
-    E = edges(Fo)
-    vertex_faces = vertex_face_incidence(F, len(V))
-    VF = vertex_face_incidence(Fo, k)
+    A, VF, E = out.A, out.VF, out.E
+    surface = input_surface(V, F, disk_uv)
+    vertex_faces = surface.vertex_faces
 
     hint = np.full(k, -1, dtype=np.int64) if faces is None else np.asarray(faces, dtype=np.int64)
     face = np.full(k, -1, dtype=np.int64)  # input face under each vertex; -1: boundary
@@ -347,7 +348,7 @@ def relax_on_surface(
     moved = np.flatnonzero(free)
     ring, ring_bnd = A[moved], A[bnd]
     for _ in range(iterations):
-        new_X, new_uv, new_face = smoothing_sweep(X, uv, face, moved, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, step)
+        new_X, new_uv, new_face = smoothing_sweep(X, uv, face, moved, ring, out, surface, step)
         # boundary: the umbrella's step along it in arc length, or, with a sizing field,
         # even spacing in its metric (the field's border rule shortens the boundary edges
         # where the boundary bends; following the faces instead took fran_cut's Hausdorff
@@ -367,25 +368,18 @@ def relax_on_surface(
     snapped, partial = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
     A_in = adjacency_matrix(F, len(V)) if snap > 0 else None
     if snap > 0:
-        snap_to_far_points(
-            X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, A_in, disk_uv, vertex_faces,
-            snap * edge_lengths(X, E).mean(), E=E,
-        )
+        snap_to_far_points(X, uv, face, out, surface, A_in, pinned, snapped, partial, snap * edge_lengths(X, E).mean())
     if min_quality > 0 and rounds > 0:
-        raise_min_quality(
-            X, uv, face, s, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, curve, min_quality, rounds
-        )
+        raise_min_quality(X, uv, face, s, out, surface, pinned, snapped, curve, min_quality, rounds)
         if snap > 0:
             # The search has mended the faces that blocked some moves of the snapping
             # (a move must leave every face around the vertex above 0.3): snap again, and
             # polish around, the snapped vertices staying.
             snap_to_far_points(
-                X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, A_in, disk_uv, vertex_faces,
-                snap * edge_lengths(X, E).mean(), E=E,
+                X, uv, face, out, surface, A_in, pinned, snapped, partial, snap * edge_lengths(X, E).mean()
             )
             raise_min_quality(
-                X, uv, face, s, Fo, A, VF, bnd, pinned | snapped, snapped, V, F, disk_uv, vertex_faces, curve,
-                min_quality, max(rounds // 12, 1),
+                X, uv, face, s, out, surface, pinned | snapped, snapped, curve, min_quality, max(rounds // 12, 1)
             )
         # Where the search ends below the floor, a vertex is wedged between neighbours
         # placed for where it is, and no move of one vertex helps (hand.ply subdivided
@@ -400,14 +394,11 @@ def relax_on_surface(
             wedged = np.flatnonzero(near & free)
             ring = A[wedged]
             for _ in range(UNJAM_SWEEPS):
-                new_X, new_uv, new_face = smoothing_sweep(
-                    X, uv, face, wedged, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, step
-                )
+                new_X, new_uv, new_face = smoothing_sweep(X, uv, face, wedged, ring, out, surface, step)
                 _undo_folds(new_X, new_uv, new_face, X, uv, face, Fo)
                 uv, X, face = new_uv, new_X, new_face
             raise_min_quality(
-                X, uv, face, s, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, curve, min_quality,
-                max(rounds // 12, 1),
+                X, uv, face, s, out, surface, pinned, snapped, curve, min_quality, max(rounds // 12, 1)
             )
     last_search = min_quality > 0 and rounds > 0 and radius_ratio(X, Fo).min() < SNAPPED_FLOOR
     # The last two searches keep the input vertices the snapping reached within its reach
@@ -420,15 +411,12 @@ def relax_on_surface(
         # pockets, and held there they stay; a short search in which they may move again to
         # mend a face below SNAPPED_FLOOR lifts the worst of them.
         raise_min_quality(
-            X, uv, face, s, Fo, A, VF, bnd, pinned, snapped, V, F, disk_uv, vertex_faces, curve, SNAPPED_FLOOR,
-            max(rounds // 12, 1), held_floor=SNAPPED_FLOOR, guard=guard,
+            X, uv, face, s, out, surface, pinned, snapped, curve, SNAPPED_FLOOR, max(rounds // 12, 1),
+            held_floor=SNAPPED_FLOOR, guard=guard,
         )
     if regular_rounds > 0:
         # The snapped vertices and their neighbours, which shape the pockets the snapping
         # followed, stay.
         held = snapped | ((A @ snapped) > 0)
-        raise_regular_fraction(
-            X, uv, face, s, Fo, A, VF, bnd, ~pinned & ~held, V, F, disk_uv, vertex_faces, curve, regular_rounds,
-            guard=guard,
-        )
+        raise_regular_fraction(X, uv, face, s, out, surface, ~pinned & ~held, curve, regular_rounds, guard=guard)
     return (uv, X, face) if return_faces else (uv, X)

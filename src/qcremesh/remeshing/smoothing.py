@@ -71,7 +71,7 @@ def smooth_targets(X, verts, ring, Fo, VF, E, step):
     return X[verts] + d
 
 
-def smoothing_sweep(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, step):
+def smoothing_sweep(X, uv, face, verts, ring, out, surface, step):
     """One sweep of tangential smoothing of the vertices ``verts`` of an output mesh on the
     input surface.
 
@@ -83,26 +83,23 @@ def smoothing_sweep(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_f
         Their disk positions.
     face : (k,) int
         The input face under each (-1 where not known: the boundary).
-    verts, ring, Fo, VF, E, step
+    verts, ring, step
         As for :func:`smooth_targets`.
-    V : (n, 3) float
-    F : (m, 3) int
-        The input surface.
-    disk_uv : (n, 2) float
-        Its disk parameterization.
-    vertex_faces : (n, m) CSR
-        Vertex-face incidence of ``F``.
+    out : OutputMesh
+        The output's connectivity (:class:`~qcremesh.remeshing.meshes.OutputMesh`).
+    surface : InputSurface
+        The input surface and its disk map (:class:`~qcremesh.remeshing.meshes.InputSurface`).
 
     Returns
     -------
     X, uv, face
         New arrays: the vertices ``verts`` moved, the others as they were.
     """
-    targets = (smooth_targets_kernel() or smooth_targets)(X, verts, ring, Fo, VF, E, step)
+    targets = (smooth_targets_kernel() or smooth_targets)(X, verts, ring, out.F, out.VF, out.E, step)
     new_X, new_uv, new_face = X.copy(), uv.copy(), face.copy()
-    f, cp, b = closest_point_near(targets, face[verts], V, F, vertex_faces)
+    f, cp, b = closest_point_near(targets, face[verts], surface.V, surface.F, surface.vertex_faces)
     new_face[verts], new_X[verts] = f, cp
-    new_uv[verts] = interpolate_barycentric(F, f, b, disk_uv)
+    new_uv[verts] = interpolate_barycentric(surface.F, f, b, surface.disk_uv)
     return new_X, new_uv, new_face
 
 

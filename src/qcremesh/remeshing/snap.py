@@ -56,7 +56,6 @@ from ..geometry.operators import signed_doublearea
 from ..geometry.quality import radius_ratio
 from ..geometry.threads import query_workers
 from ..geometry.vectors import norm
-from ..mesh.topology import edges
 from .guard import DistanceGuard
 from .min_quality import QUALITY_FLOOR
 from .onsurface import closest_point_near, csr_rows, independent_first, star_distance
@@ -73,10 +72,7 @@ DRAPE_RINGS = 2
 DRAPE_SWEEPS = 20
 
 
-def snap_to_far_points(
-    X, uv, face, Fo, A, VF, bnd, pinned, snapped, partial, V, F, A_in, disk_uv, vertex_faces, reach, passes=4,
-    E=None,
-):
+def snap_to_far_points(X, uv, face, out, surface, A_in, pinned, snapped, partial, reach, passes=4):
     """Move output vertices onto (or towards) the input vertices farthest from the
     output surface: the bottoms of pockets and the tips the output cuts across.
 
@@ -105,47 +101,34 @@ def snap_to_far_points(
         Their disk positions (updated).
     face : (k,) int
         Input face under each output vertex (updated).
-    Fo : (l, 3) int
-        Output faces.
-    A : (k, k) CSR
-        Vertex adjacency of ``Fo``.
-    VF : (k, l) CSR
-        Vertex-face incidence of ``Fo``.
-    bnd : (b,) int
-        Output boundary loop (its vertices do not move).
+    out : OutputMesh
+        The output's connectivity (:class:`~qcremesh.remeshing.meshes.OutputMesh`; the
+        vertices of its boundary loop do not move).
+    surface : InputSurface
+        The input surface and its disk map (:class:`~qcremesh.remeshing.meshes.InputSurface`).
+    A_in : (n, n) CSR
+        Vertex adjacency of the input.
     pinned : (k,) bool
         Vertices that stay.
     snapped : (k,) bool
         Vertices snapped by an earlier call; set for those that move (updated).
     partial : (k,) bool
         Those of them that went only part of the way, which may move again (updated).
-    V : (n, 3) float
-    F : (m, 3) int
-        The input surface.
-    A_in : (n, n) CSR
-        Vertex adjacency of ``F``.
-    disk_uv : (n, 2) float
-        Its disk parameterization.
-    vertex_faces : (n, m) CSR
-        Vertex-face incidence of ``F``.
     reach : float
         Distance from the output beyond which an input vertex pulls (the relaxation
         takes half the mean output edge length).
     passes : int
         Maximum number of passes.
-    E : (e, 2) int, optional
-        The edges of ``Fo`` (:func:`qcremesh.mesh.topology.edges`), where the caller has
-        them.
     """
     # Input vertices within reach of an output vertex are within reach of the output.
     # Only the others are measured, in every pass (one near a vertex that moves away is
     # not measured again: its other neighbours stay).
+    Fo, A, VF, bnd, V = out.F, out.A, out.VF, out.loop, surface.V
     query = cKDTree(X).query(V, workers=query_workers(len(V)))
     candidates = np.flatnonzero(query[0] > reach)
     if len(candidates) == 0:
         return
     guard = DistanceGuard(X, Fo, VF, V, reach, query)
-    E = edges(Fo) if E is None else E
     dist = np.zeros(len(V))
     failed = np.zeros(0, dtype=np.int64)  # (far point, vertex) pairs that did not move, as far * k + vertex
     for _ in range(passes):
@@ -175,16 +158,13 @@ def snap_to_far_points(
         far, target = far[free], target[free]
         if len(far) == 0:
             return
-        moved, whole = _move_towards(
-            X, uv, face, Fo, VF, target, far, dist[far], guard, V, F, disk_uv, vertex_faces
-        )
+        moved, whole = _move_towards(X, uv, face, out, surface, target, far, dist[far], guard)
         guard.update(X, Fo, VF, target[moved])
         short = np.flatnonzero(~whole)
         if len(short):
             fixed[target[whole]] = True
             draped = _drape_towards(
-                X, uv, face, Fo, A, VF, E, target[short], far[short], dist[far[short]], fixed, guard, V, F, disk_uv,
-                vertex_faces,
+                X, uv, face, out, surface, target[short], far[short], dist[far[short]], fixed, guard
             )
             moved[short[draped]] = whole[short[draped]] = True
         failed = np.union1d(failed, far[~moved] * len(X) + target[~moved])
@@ -192,11 +172,13 @@ def snap_to_far_points(
         partial[target[moved]] = ~whole[moved]
 
 
-def _move_towards(X, uv, face, Fo, VF, target, far, allow, guard, V, F, disk_uv, vertex_faces):
+def _move_towards(X, uv, face, out, surface, target, far, allow, guard):
     """Move each output vertex ``target`` the largest fraction of the way to input vertex
     ``far`` that keeps its faces valid and takes no input vertex that ``guard`` watches
     farther from the output than the limit, than it is, or than ``far`` is (``allow``);
     which moved and which went all the way, (p,) bool each."""
+    Fo, VF = out.F, out.VF
+    V, F, disk_uv, vertex_faces = surface.V, surface.F, surface.disk_uv, surface.vertex_faces
     old_X, old_uv, old_face = X[target].copy(), uv[target].copy(), face[target].copy()
     star, owner = csr_rows(VF, target)
     moved = np.zeros(len(target), dtype=bool)
@@ -254,7 +236,7 @@ def _far_apart_first(A, verts, rings):
     return independent_first(near, np.arange(len(verts)))
 
 
-def _drape_towards(X, uv, face, Fo, A, VF, E, target, far, allow, fixed, guard, V, F, disk_uv, vertex_faces):
+def _drape_towards(X, uv, face, out, surface, target, far, allow, fixed, guard):
     """Move each output vertex ``target`` onto input vertex ``far`` with the free vertices
     within DRAPE_RINGS edges of it following: the vertex goes all the way, and DRAPE_SWEEPS
     sweeps of tangential smoothing of the others
@@ -264,6 +246,7 @@ def _drape_towards(X, uv, face, Fo, A, VF, E, target, far, allow, fixed, guard, 
     is and than ``far`` is (``allow``), they all go back. The vertices are taken in the
     order given, each more than 2 DRAPE_RINGS + 2 edges from an earlier one, so that no
     face moves with two of them; which were draped, (p,) bool."""
+    Fo, A, VF = out.F, out.A, out.VF
     draped = np.zeros(len(target), dtype=bool)
     rows = np.flatnonzero(_far_apart_first(A, target, DRAPE_RINGS + 1))
     if len(rows) == 0:
@@ -274,11 +257,11 @@ def _drape_towards(X, uv, face, Fo, A, VF, E, target, far, allow, fixed, guard, 
     region, verts = region[free], verts[free]
     every, owner = np.r_[t, verts], np.r_[np.arange(len(t)), region]
     old = X[every].copy(), uv[every].copy(), face[every].copy()
-    X[t], uv[t] = V[p], disk_uv[p]
-    face[t] = vertex_faces.indices[vertex_faces.indptr[p]]
+    X[t], uv[t] = surface.V[p], surface.disk_uv[p]
+    face[t] = surface.vertex_faces.indices[surface.vertex_faces.indptr[p]]
     ring = A[verts]
     for _ in range(DRAPE_SWEEPS):
-        new_X, new_uv, new_face = smoothing_sweep(X, uv, face, verts, ring, Fo, VF, E, V, F, disk_uv, vertex_faces, 0.5)
+        new_X, new_uv, new_face = smoothing_sweep(X, uv, face, verts, ring, out, surface, 0.5)
         X[verts], uv[verts], face[verts] = new_X[verts], new_uv[verts], new_face[verts]
     star, which = csr_rows(VF, every)
     star, first = np.unique(star, return_index=True)

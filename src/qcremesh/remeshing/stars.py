@@ -67,10 +67,11 @@ def mean_edge_length(X, A, verts):
     return np.bincount(owner, norm(X[ring] - X[verts[owner]])) / np.bincount(owner)
 
 
-def tangent_candidates(X, Fo, VF, verts, reach, face, V, F, disk_uv, vertex_faces, steps):
+def tangent_candidates(X, out, verts, reach, face, surface, steps):
     """Candidate positions of interior vertices: offsets of ``steps`` times ``reach`` in
     8 directions of the tangent plane of each vertex (the normal of its star), snapped
-    onto the input surface near the vertex's face.
+    onto the input surface near the vertex's face (``out`` the output's connectivity and
+    ``surface`` the input, as :mod:`qcremesh.remeshing.meshes` holds them).
 
     Returns
     -------
@@ -81,8 +82,8 @@ def tangent_candidates(X, Fo, VF, verts, reach, face, V, F, disk_uv, vertex_face
         The input faces under them.
     """
     angles = 2 * np.pi * np.arange(DIRECTIONS) / DIRECTIONS
-    star, owner = csr_rows(VF, verts)
-    T = np.take(X, np.take(Fo, star, axis=0), axis=0)
+    star, owner = csr_rows(out.VF, verts)
+    T = np.take(X, np.take(out.F, star, axis=0), axis=0)
     normal = np.stack(
         [np.bincount(owner, c, len(verts)) for c in cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]).T], axis=1
     )
@@ -96,9 +97,10 @@ def tangent_candidates(X, Fo, VF, verts, reach, face, V, F, disk_uv, vertex_face
     offsets = offsets.reshape(-1, len(verts), 3).transpose(1, 0, 2)  # (p, c, 3)
     c = offsets.shape[1]
     f, cp, b = closest_point_near(
-        (X[verts][:, None] + offsets).reshape(-1, 3), np.repeat(face[verts], c), V, F, vertex_faces
+        (X[verts][:, None] + offsets).reshape(-1, 3), np.repeat(face[verts], c), surface.V, surface.F,
+        surface.vertex_faces,
     )
-    uvc = interpolate_barycentric(F, f, b, disk_uv).reshape(-1, c, 2)
+    uvc = interpolate_barycentric(surface.F, f, b, surface.disk_uv).reshape(-1, c, 2)
     return cp.reshape(-1, c, 3), uvc, f.reshape(-1, c)
 
 
