@@ -79,6 +79,23 @@ def strip_disk(length, k=10, seed=0):
     return np.column_stack([P, 0.3 * np.sin(P[:, 0])]), F
 
 
+def flap_disk(width=0.02, length=0.2, step=0.01):
+    """The unit square with a flap ``width`` wide and ``length`` long out of the middle of
+    its right side (a scan's border with a tongue), meshed on a grid of cells ``step``
+    wide, two triangles each, bent (z = 0.2 sin 3x sin 3y): a disk whose conformal map
+    crowds the flap's boundary by about exp(-pi length / width) at its tip."""
+    x, y = np.arange(0.0, 1 + length + step / 2, step), np.arange(0.0, 1 + step / 2, step)
+    P = np.stack(np.meshgrid(x, y), -1).reshape(-1, 2)
+    i, j = (g.ravel() for g in np.meshgrid(np.arange(len(x) - 1), np.arange(len(y) - 1)))
+    a = j * len(x) + i
+    F = np.concatenate([np.column_stack([a, a + 1, a + len(x) + 1]), np.column_stack([a, a + len(x) + 1, a + len(x)])])
+    on = (P[:, 0] <= 1 + 1e-9) | (np.abs(P[:, 1] - 0.5) <= width / 2 + 1e-9)
+    F = F[on[F].all(1)]
+    used, F = np.unique(F, return_inverse=True)
+    P = P[used]
+    return np.column_stack([P, 0.2 * np.sin(3 * P[:, 0]) * np.sin(3 * P[:, 1])]), F.reshape(-1, 3)
+
+
 def tube_disk(length, k=16, seed=0):
     """A tube of radius 1 and the given length, open at z = 0 and closed at the other end
     by a hemisphere: rings of k vertices (the tube's rings 2 pi / k apart, each turned by

@@ -787,12 +787,15 @@ def test_remesh_shortens_the_edges_where_the_weld_of_a_thin_tail_fails(monkeypat
     slit open along it to its tip: the tail's strip of the cut disk has no vertex inside,
     and the weld folds it (chi 4 for 2 in the cow of pymeshlab's samples). Remeshed
     again with edges half as long around where the weld went wrong, it welds into a
-    closed manifold surface of genus 0. A tail 0.06 across at 1,200 faces does not weld
-    with edges a quarter as long either: the slit is then trimmed where the weld went
-    wrong, and the surface welds (its tail coarse). (At 1,500 faces it did not either
-    until the level-0 pieces' faces below 0.3 were flipped; it now welds with edges a
-    quarter as long, min q 0.42.) Without both, the error says so."""
+    closed manifold surface of genus 0. A tail 0.06 across at 1,200 faces welds with edges
+    a quarter as long once the flap along the tail's slit, whose faces fall below 0.3, is
+    cut off on its own map (SLIVER_RUN_EDGES; min q 0.041 -> 0.660, mean q 0.945 ->
+    0.956); without that cut it does not weld with edges a quarter as long either: the
+    slit is then trimmed where the weld went wrong, and the surface welds (its tail
+    coarse). (At 1,500 faces it does not weld either way.) Without both, the error says
+    so."""
     import qcremesh.remeshing.pipeline as pipeline
+    from qcremesh.remeshing.cut_paths import CROWDED_MIN_EDGES
 
     def closed_genus_0(r):
         return (
@@ -805,6 +808,10 @@ def test_remesh_shortens_the_edges_where_the_weld_of_a_thin_tail_fails(monkeypat
     assert r.stats["weld_sizing_min_ratio"] == 0.5 and "cut_trimmed" not in r.stats
     assert closed_genus_0(r) and radius_ratio(r.V, r.F).mean() > 0.94
     V, F = shapes.ball_with_tail(0.03, rings=118)
+    r = remesh(V, F, 1200)
+    assert r.stats["weld_sizing_min_ratio"] == 0.25 and r.stats["crowded_after_slivers"]
+    assert "cut_trimmed" not in r.stats and closed_genus_0(r) and radius_ratio(r.V, r.F).min() > 0.6
+    monkeypatch.setattr(pipeline, "SLIVER_RUN_EDGES", CROWDED_MIN_EDGES)
     r = remesh(V, F, 1200)
     assert r.stats["weld_sizing_min_ratio"] == 0.25 and r.stats["cut_trimmed"]
     assert closed_genus_0(r) and radius_ratio(r.V, r.F).mean() > 0.92

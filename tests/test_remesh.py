@@ -2,7 +2,10 @@ import numpy as np
 import pytest
 from scipy.spatial import Delaunay
 
-from conftest import DATA, cad_cylinder, cad_trough, grid_disk, holed_disk, shared, sphere_mesh, star_disk, strip_disk, tube_disk
+from conftest import (
+    DATA, cad_cylinder, cad_trough, flap_disk, grid_disk, holed_disk, shared, sphere_mesh, star_disk, strip_disk,
+    tube_disk,
+)
 from qcremesh.geometry.distance import point_mesh_distance
 from qcremesh.geometry.operators import doublearea
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
@@ -283,6 +286,26 @@ def test_crowded_ends_are_cut_off():
             assert len(boundary_loops(r.F)) == 1 and euler_characteristic(r.F) == 1
             # every output vertex on the strip (z = 0.3 sin x)
             np.testing.assert_allclose(r.V[:, 2], 0.3 * np.sin(r.V[:, 0]), atol=0.02)
+
+
+def test_a_narrow_flap_is_cut_off_where_it_gets_slivers():
+    """A flap of a scan's border 0.02 wide and 0.2 long (0.6 and 6 output edges at 2,000
+    faces) that the disk map crowds beyond what the landmarks resolve, too short for the
+    crowded cuts (16 edges) and too small for a piece (16 faces): the whole gets no output
+    vertex along its middle, slivers down to q 0.152 (14 below 0.3). Where the whole's
+    remesh has slivers, runs from 4 edges are cut off, pieces from 4 faces, down to the
+    levels the whole ended at (0 here, from the 2 its largest piece plans): the flap
+    remeshed on its own map, one row of faces, min q 0.776, mean q 0.968 -> 0.976."""
+    V, F = flap_disk()
+    r = remesh(V, F, faces=2000)
+    assert r.stats["crowded_after_slivers"] and r.stats["crowded_cuts"] == 1
+    assert abs(len(r.F) - 2000) <= 0.05 * 2000
+    q = radius_ratio(r.V, r.F)
+    assert q.min() >= 0.5 and q.mean() >= 0.97
+    check_disk(r.V, r.F)
+    # output vertices all along the flap, none more than one flap width from the next
+    along = np.sort(r.V[r.V[:, 0] > 1, 0])
+    assert along[-1] > 1.2 - 1e-9 and np.diff(np.r_[1.0, along]).max() <= 0.02
 
 
 def test_crowded_ends_are_cut_off_with_a_sizing_field():

@@ -56,28 +56,28 @@ CROWDED_MIN_EDGES = 16
 CREASE_ROUNDS = 3
 
 
-def crowded_ends(V, F, dm, edge):
+def crowded_ends(V, F, dm, edge, min_edges=CROWDED_MIN_EDGES):
     """The boundary vertices before and after each run that the disk map ``dm`` crowds
-    (:func:`crowded_arcs` below CROWDED_RATIO over at least CROWDED_MIN_EDGES times
-    ``edge`` of boundary), (p, 2)."""
+    (:func:`crowded_arcs` below CROWDED_RATIO over at least ``min_edges`` times ``edge``
+    of boundary), (p, 2)."""
     bnd = dm.boundary
     start, count, _ = crowded_arcs(V, dm.uv, bnd, CROWDED_RATIO)
     lengths = np.linalg.norm(V[np.roll(bnd, -1)] - V[bnd], axis=1)
     # (the run's length: its vertices' edges to the next, but the last's)
     along = np.r_[0.0, np.cumsum(np.r_[lengths, lengths])]
-    long = (count < len(bnd) - 2) & (along[start + count - 1] - along[start] >= CROWDED_MIN_EDGES * edge)
+    long = (count < len(bnd) - 2) & (along[start + count - 1] - along[start] >= min_edges * edge)
     return np.column_stack([bnd[(start[long] - 1) % len(bnd)], bnd[(start[long] + count[long]) % len(bnd)]])
 
 
-def crowded_cuts(V, F, dm, faces):
+def crowded_cuts(V, F, dm, faces, min_edges=CROWDED_MIN_EDGES):
     """Paths across the disk map ``dm``'s crowded boundary runs (:func:`crowded_ends` for
-    the output edge length of ``faces`` faces), each from the boundary vertex before a run
-    to the one after it through interior vertices
+    the output edge length of ``faces`` faces and ``min_edges``), each from the boundary
+    vertex before a run to the one after it through interior vertices
     (:func:`qcremesh.mesh.cut.paths_across`), or, where no such path joins them (a neck
     one face wide), the chord that cuts off the most of the run
     (:func:`qcremesh.mesh.cut.chord_across`); [] where there is none."""
     edge = output_edge_length(V, F, faces)
-    ends = crowded_ends(V, F, dm, edge)
+    ends = crowded_ends(V, F, dm, edge, min_edges)
     paths = paths_across(V, F, ends)
     paths = [chord_across(F, dm.boundary, *e) if p is None else p for p, e in zip(paths, ends)]
     return [p for p in paths if p is not None]

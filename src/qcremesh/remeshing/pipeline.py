@@ -129,6 +129,19 @@ CHART_FREE_SWEEPS = 20
 
 # Fewest faces of a piece so cut off (else its path is not cut).
 MIN_PIECE_FACES = 16
+# Where the remesh of a disk whole has slivers and no crowded run is long enough to be cut
+# off (CROWDED_MIN_EDGES), runs from SLIVER_RUN_EDGES output edges are, into pieces from
+# SLIVER_PIECE_FACES faces (see _cut_at_slivers). A flap of a scan's border 0.02 wide and
+# 0.2 long on a unit square (test_remesh's flap_disk), its tip crowded below what the
+# landmarks resolve, at 1,000 / 2,000 / 4,000 faces: min q 0.150 / 0.152 / 0.178 -> 0.339 /
+# 0.776 / 0.763, mean q 0.967 / 0.968 / 0.974 -> 0.970 / 0.976 / 0.978, Hausdorff distance
+# 1.24 / 1.30 / 0.31 -> 0.37 % (the whole had no output vertex along the flap's middle).
+# The disk meshes of ../shared/data have no slivers there, or are cut where they crowd
+# first (camel_b), and keep their bytes; so does face-YH.off, whose flaps lie in pieces
+# (cutting them off with the short runs too took its 30 faces below 0.3 at half its face
+# count to 134).
+SLIVER_RUN_EDGES = 4
+SLIVER_PIECE_FACES = 4
 # Most rounds of cuts across the pieces that hold slivers (see _recut_at_slivers).
 RECUT_ROUNDS = 3
 
@@ -289,7 +302,7 @@ def _remesh_charts(V, F, faces, sizing, data, repairs, options):
 
 def _remesh_along_paths(
     V, F, paths, faces, corners, sizing, data, stats, options, name="crowded", min_levels=None, done=None, held=None,
-    topology=(1, 1),
+    topology=(1, 1), min_piece_faces=MIN_PIECE_FACES, whole_levels=None,
 ):
     """:func:`remesh` of a disk cut along ``paths`` (from :func:`crowded_cuts`, where
     its map crowds parts of the boundary, or :func:`crease_cuts`) into pieces, each
@@ -304,10 +317,11 @@ def _remesh_along_paths(
     (:func:`qcremesh.mesh.cut.weld_along_paths`, every level; a coarse level that does
     not weld into a disk, or into a surface of the Euler characteristic and boundary loops
     ``topology`` where that is given, is dropped). A path that would cut off a piece of fewer than
-    MIN_PIECE_FACES faces is not cut; nor, for the crowded cuts (``name`` "crowded"), one
+    ``min_piece_faces`` faces is not cut; nor, for the crowded cuts (``name`` "crowded"), one
     that would cut off a piece with an interior vertex planned at fewer levels than one
     below the largest piece (than ``min_levels`` where given; None where a piece then
-    takes fewer)
+    takes fewer; than ``whole_levels`` too where given, the levels of the remesh of the
+    disk whole, which the pieces then lose nothing against)
     (:func:`~qcremesh.remeshing.disk_remesh.planned_levels`; every piece would take them:
     Hand1.off's cut disk at half its face count, two pieces of a few hundred faces at no
     level, took 11.9 s instead of 5.3 s, mean q 0.966 instead of 0.987). The
@@ -353,7 +367,7 @@ def _remesh_along_paths(
             pieces.append((V_cut[used], local, share, np.flatnonzero(ends[used]), piece_data,
                            None if cut_density is None else cut_density[used]))
             inner.append(not on_boundary[used].all())
-            if share < MIN_PIECE_FACES:
+            if share < min_piece_faces:
                 small.append(members[-1])
         # the levels each piece with an interior vertex plans (a strip is split first and
         # plans its own)
@@ -365,6 +379,8 @@ def _remesh_along_paths(
             # Pieces planned at fewer levels than one below the largest's (which all
             # pieces would then take) are not cut off.
             least = planned[int(np.argmax([piece[2] for piece in pieces]))] - 1 if min_levels is None else min_levels
+            if whole_levels is not None:
+                least = min(least, whole_levels)
             small = [vertices for vertices, level in zip(members, planned) if level is not None and level < least]
         if not small:
             break
@@ -521,16 +537,22 @@ def _cut_at_slivers(V, F, dm, faces, corners_of, sizing, data, stats, options, r
     faces below the floor (:func:`_fewer_slivers`; ``stats["crowded_after_slivers"]``
     says which, where tried; the times are of both). A scan's border with a protrusion
     behind a neck one or two faces wide: the map crushes what lies beyond, a fan of
-    slivers there. ``held`` as for :func:`_remesh_along_paths`."""
+    slivers there. Where no run is long enough for the crowded cuts, the runs from
+    SLIVER_RUN_EDGES output edges are cut off, into pieces from SLIVER_PIECE_FACES faces
+    (a flap of the border a few edges long); the pieces may take as few levels as the
+    whole ended at. ``held`` as for :func:`_remesh_along_paths`."""
     q = radius_ratio(result.V, result.F)
     if q.min() >= QUALITY_FLOOR:
         return result
-    paths = crowded_cuts(V, F, dm, faces)
+    paths, smallest = crowded_cuts(V, F, dm, faces), MIN_PIECE_FACES
+    if not paths:
+        paths, smallest = crowded_cuts(V, F, dm, faces, SLIVER_RUN_EDGES), SLIVER_PIECE_FACES
     if not paths:
         return result
     done = {}
     again = _remesh_along_paths(
-        V, F, paths, faces, corners_of(paths), sizing, data, stats, options, done=done, held=held
+        V, F, paths, faces, corners_of(paths), sizing, data, stats, options, done=done, held=held,
+        min_piece_faces=smallest, whole_levels=result.stats["levels"],
     )
     if again is not None:
         again = _recut_at_slivers(V, F, paths, faces, corners_of, sizing, data, stats, options, again, done, held)
