@@ -136,10 +136,11 @@ MIN_PIECE_FACES = 16
 # landmarks resolve, at 1,000 / 2,000 / 4,000 faces: min q 0.150 / 0.152 / 0.178 -> 0.339 /
 # 0.776 / 0.763, mean q 0.967 / 0.968 / 0.974 -> 0.970 / 0.976 / 0.978, Hausdorff distance
 # 1.24 / 1.30 / 0.31 -> 0.37 % (the whole had no output vertex along the flap's middle).
-# The disk meshes of ../shared/data have no slivers there, or are cut where they crowd
-# first (camel_b), and keep their bytes; so does face-YH.off, whose flaps lie in pieces
-# (cutting them off with the short runs too took its 30 faces below 0.3 at half its face
-# count to 134).
+# Every remesh of the benchmark (../shared/data at its face count and half of it, the
+# synthetic CAD shapes with and without creases) keeps its bytes: none has slivers when
+# remeshed whole but camel_b, which is cut where it crowds first, and face-YH.off, whose
+# flaps lie in the pieces of a cut (cutting them off there with the short runs too, in
+# _recut_at_slivers, took its 30 faces below 0.3 at half its face count to 134).
 SLIVER_RUN_EDGES = 4
 SLIVER_PIECE_FACES = 4
 # Most rounds of cuts across the pieces that hold slivers (see _recut_at_slivers).
