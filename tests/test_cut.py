@@ -314,7 +314,10 @@ def test_a_piece_remeshed_away_from_itself_is_raised_then_kept(monkeypatch):
     quarter of its diagonal (the shape a leg of pyvista's ant lost; here the distance is
     reported so for the cube) is not taken: the piece is asked again at twice the faces
     while that is at most 4 times its own, and then kept as in the input; the disk beside
-    it is remeshed as always."""
+    it is remeshed as always. With the real distance, the cube is not kept at 400 faces;
+    at 200, its share (4 faces) remeshed at up to 32 without its creases cuts its corners
+    by about the limit, so whether it is kept depends on the rounding (with numpy 2.4.6
+    and scipy 1.17.1: 0.0265 at 32 faces against a limit of 0.0217, kept)."""
     import qcremesh.remeshing.pipeline as pipeline
 
     real, asked = pipeline.hausdorff_distance, []
@@ -333,7 +336,7 @@ def test_a_piece_remeshed_away_from_itself_is_raised_then_kept(monkeypatch):
     disk, cube = r.stats["piece_faces"]
     assert cube == 12 and abs(disk - 196) <= 10
     monkeypatch.setattr(pipeline, "hausdorff_distance", real)
-    assert "pieces_kept" not in remesh(V, F, 200).stats
+    assert "pieces_kept" not in remesh(V, F, 400).stats
 
 
 def test_a_surface_whose_loops_are_all_short_welds():
@@ -790,10 +793,11 @@ def test_remesh_shortens_the_edges_where_the_weld_of_a_thin_tail_fails(monkeypat
     closed manifold surface of genus 0. A tail 0.06 across at 1,200 faces welds with edges
     a quarter as long once the flap along the tail's slit, whose faces fall below 0.3, is
     cut off on its own map (SLIVER_RUN_EDGES; min q 0.041 -> 0.660, mean q 0.945 ->
-    0.956); without that cut it does not weld with edges a quarter as long either: the
-    slit is then trimmed where the weld went wrong, and the surface welds (its tail
-    coarse). (At 1,500 faces it does not weld either way.) Without both, the error says
-    so."""
+    0.956). Without that cut, and with edges only halved (whether a quarter welds then
+    depends on the rounding: it did not in session 42's environment, it does with numpy
+    2.4.6 and scipy 1.17.1, min q 0.047), the slit is trimmed where the weld went wrong,
+    and the surface welds (its tail coarse). (At 1,500 faces it does not weld either
+    way.) Without both, the error says so."""
     import qcremesh.remeshing.pipeline as pipeline
     from qcremesh.remeshing.cut_paths import CROWDED_MIN_EDGES
 
@@ -812,8 +816,9 @@ def test_remesh_shortens_the_edges_where_the_weld_of_a_thin_tail_fails(monkeypat
     assert r.stats["weld_sizing_min_ratio"] == 0.25 and r.stats["crowded_after_slivers"]
     assert "cut_trimmed" not in r.stats and closed_genus_0(r) and radius_ratio(r.V, r.F).min() > 0.6
     monkeypatch.setattr(pipeline, "SLIVER_RUN_EDGES", CROWDED_MIN_EDGES)
+    monkeypatch.setattr(pipeline, "WELD_REFINE_RATIOS", (0.5,))
     r = remesh(V, F, 1200)
-    assert r.stats["weld_sizing_min_ratio"] == 0.25 and r.stats["cut_trimmed"]
+    assert r.stats["weld_sizing_min_ratio"] == 0.5 and r.stats["cut_trimmed"]
     assert closed_genus_0(r) and radius_ratio(r.V, r.F).mean() > 0.92
     monkeypatch.setattr(pipeline, "WELD_REFINE_RATIOS", ())
     monkeypatch.setattr(pipeline, "TRIM_REACH", 0.0)
