@@ -316,8 +316,8 @@ def test_a_piece_remeshed_away_from_itself_is_raised_then_kept(monkeypatch):
     while that is at most 4 times its own, and then kept as in the input; the disk beside
     it is remeshed as always. With the real distance, the cube is not kept at 400 faces;
     at 200, its share (4 faces) remeshed at up to 32 without its creases cuts its corners
-    by about the limit, so whether it is kept depends on the rounding (with numpy 2.4.6
-    and scipy 1.17.1: 0.0265 at 32 faces against a limit of 0.0217, kept)."""
+    by about the limit, so whether it is kept depends on the host's rounding (on the AMD
+    EPYC host of session 43: 0.0265 at 32 faces against a limit of 0.0217, kept)."""
     import qcremesh.remeshing.pipeline as pipeline
 
     real, asked = pipeline.hausdorff_distance, []
@@ -794,8 +794,8 @@ def test_remesh_shortens_the_edges_where_the_weld_of_a_thin_tail_fails(monkeypat
     a quarter as long once the flap along the tail's slit, whose faces fall below 0.3, is
     cut off on its own map (SLIVER_RUN_EDGES; min q 0.041 -> 0.660, mean q 0.945 ->
     0.956). Without that cut, and with edges only halved (whether a quarter welds then
-    depends on the rounding: it did not in session 42's environment, it does with numpy
-    2.4.6 and scipy 1.17.1, min q 0.047), the slit is trimmed where the weld went wrong,
+    depends on the host's rounding: it did not on session 42's host, it does on session
+    43's, with the same packages, min q 0.047), the slit is trimmed where the weld went wrong,
     and the surface welds (its tail coarse). (At 1,500 faces it does not weld either
     way.) Without both, the error says so."""
     import qcremesh.remeshing.pipeline as pipeline
