@@ -546,13 +546,15 @@ def test_departure_warnings_name_the_distance_and_the_crossing_faces(capsys):
 
 def test_remesh_cli_says_where_the_weld_failed(tmp_path, capsys, monkeypatch):
     """A ball with a tail 0.06 across at 1,200 faces, its flaps with slivers not cut off
-    (test_cut's test_remesh_shortens_the_edges_where_the_weld_of_a_thin_tail_fails): the
-    weld of its slit fails, with shorter edges too, and the slit is trimmed; the summary
-    says each, in that order."""
+    and its edges only halved where the weld fails (test_cut's
+    test_remesh_shortens_the_edges_where_the_weld_of_a_thin_tail_fails): the weld of its
+    slit fails, with shorter edges too, and the slit is trimmed; the summary says each,
+    in that order."""
     import qcremesh.remeshing.pipeline as pipeline
     from qcremesh.remeshing.cut_paths import CROWDED_MIN_EDGES
 
     monkeypatch.setattr(pipeline, "SLIVER_RUN_EDGES", CROWDED_MIN_EDGES)
+    monkeypatch.setattr(pipeline, "WELD_REFINE_RATIOS", (0.5,))
     V, F = shapes.ball_with_tail(0.03, rings=118)
     path = tmp_path / "tail.obj"
     write_mesh(path, V, F)
@@ -560,7 +562,7 @@ def test_remesh_cli_says_where_the_weld_failed(tmp_path, capsys, monkeypatch):
     out = capsys.readouterr().out
     weld = out.index(
         "the first remesh did not weld back where the surface is thinner than about two edges: remeshed with "
-        "edges down to 0.25 there"
+        "edges down to 0.50 there"
     )
     trim = out.index(
         "the cut was shortened where the remesh did not weld back: the part of the surface there, thinner than "
