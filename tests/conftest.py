@@ -246,6 +246,38 @@ def cad_cylinder(sections=64, height=2.0, lid=True):
     return V[used], F.reshape(-1, 3)
 
 
+def uv_capsule(height=3.0, radius=0.3, sections=64, rings=32):
+    """A closed capsule along z (a cylinder of ``height`` between two hemispheres of
+    ``radius``) tessellated as revolved shapes are (as trimesh.creation.capsule): each
+    hemisphere ``rings`` rings of ``sections`` vertices and a fan at its pole, the cylinder
+    between them one band of 2 * ``sections`` triangles as long as it; faces turned
+    outwards."""
+    t = 2 * np.pi * np.arange(sections) / sections
+
+    def ring(polar, z):
+        r = radius * np.sin(polar)
+        return np.column_stack([r * np.cos(t), r * np.sin(t), np.full(sections, z + radius * np.cos(polar))])
+
+    polar = np.pi / 2 * np.arange(1, rings + 1) / rings  # from a pole to the equator
+    top = [ring(a, height / 2) for a in polar]
+    bottom = [ring(np.pi - a, -height / 2) for a in polar[::-1]]
+    V = np.concatenate([[[0, 0, height / 2 + radius]]] + top + bottom + [[[0, 0, -height / 2 - radius]]])
+    k = 2 * rings  # rings from top to bottom, ring i from vertex 1 + i * sections
+    j = np.arange(sections)
+    a = (1 + np.arange(k - 1)[:, None] * sections + j).ravel()
+    b = (1 + np.arange(k - 1)[:, None] * sections + (j + 1) % sections).ravel()
+    last = 1 + (k - 1) * sections
+    F = np.concatenate(
+        [
+            np.column_stack([np.zeros(sections, dtype=np.int64), 1 + j, 1 + (j + 1) % sections]),
+            np.column_stack([a, a + sections, b + sections]),
+            np.column_stack([a, b + sections, b]),
+            np.column_stack([np.full(sections, len(V) - 1), last + (j + 1) % sections, last + j]),
+        ]
+    )
+    return V, F
+
+
 def cad_trough(facets=40, length=5.0):
     """A quarter cylinder of radius 1 tessellated as CAD exports do: each facet two
     triangles as long as the cylinder."""

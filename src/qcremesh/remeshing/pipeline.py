@@ -146,34 +146,52 @@ SLIVER_PIECE_FACES = 4
 # Most rounds of cuts across the pieces that hold slivers (see _recut_at_slivers).
 RECUT_ROUNDS = 3
 
-# A disk whose map is far from conformal (mean |mu| above COARSE_MAP_MU) and that has more
-# than COARSE_SHARE of its area in faces with an edge longer than LONG_EDGE_RATIO output
-# edges (coarser than the output nearly everywhere) is refined first, the surface kept:
-# split 1-to-4 until it has a quarter of the faces asked for where every face has a radius
-# ratio of at least WELL_SHAPED (its faces keep their shapes), else its edges longer than
-# that cut (:func:`qcremesh.remeshing.mend.refined`: in equal pieces, the flat parts
-# flipped to Delaunay), which 1-to-4 would leave needles. A cube of 12 faces at 500 /
-# 5,000 faces (its cut disk's map 0.64): mean q 0.71 / 0.69, min q 0.013 / 0.000 -> 0.967
-# / 0.984, 0.68 / 0.66 split 1-to-4, and 7 s -> 0.2 s at 5,000; with its edges cut
-# instead, seeds 0-3 at 500 / 2,000 / 5,000, mean q 0.9627 / 0.9799 / 0.9866 -> 0.9612 /
-# 0.9769 / 0.9855. A CAD tessellation's needles, seeds 0-3: a quarter cylinder of 78
-# faces, each as long as the cylinder, at 500 / 3,000 faces 0.851 / 0.950 split 1-to-4 ->
-# 0.956 / 0.982 cut; a closed cylinder of 256, 0.941 / 0.985 -> 0.969 / 0.986 (mean min q
-# 0.49 / 0.69 -> 0.68 / 0.61). camel_b.obj (map 0.39, 42 % of its area in such faces at
-# its face count; two of its pieces cut where the map crowds, 0.32 / 0.34 and 63 / 65 %,
-# of median radius ratio 0.64 / 0.62) is left: cut whole, seeds 0-3 at its face count /
-# half, mean q 0.9514 / 0.9286 -> 0.9521 / 0.9271 and the smallest min q at half 0.069 ->
-# 0.006; those two pieces cut, 0.9514 -> 0.9505 at its count, Hausdorff 1.13 -> 1.22 % at
-# seed 0. With a sizing field none is refined (camel_b.obj with the curvature sizing: a
-# piece cut where its map crowds, refined against the mean edge length where its field
-# asks for shorter ones, mean q 0.937 -> 0.894, min q 0.41 -> 0.005). Where the map is near
-# conformal it is not worth it: split, a hexagon of 6 faces
-# (0.000), a cone over it (0.098) and a saddle of 32 faces (0.138) at 200 and 2,000 faces
-# lost up to 0.011 of mean q; closed meshes of 1,000 to 10,000 faces at 8-20 times as many
-# (cut disks' maps 0.04-0.10) moved by -0.0002 to +0.0013 (min q up by 0.00-0.08).
+# A disk that has more than COARSE_SHARE of its area in faces with an edge longer than
+# LONG_EDGE_RATIO output edges where its map is far from conformal (|mu| above
+# COARSE_MAP_MU) is refined first, the surface kept, where the refined disk's map is at
+# most COARSE_GAIN times as far from conformal on the whole (mean |mu|): split 1-to-4 until
+# it has a quarter of the faces asked for where every face has a radius ratio of at least
+# WELL_SHAPED (its faces keep their shapes), else its edges longer than that cut
+# (:func:`qcremesh.remeshing.mend.refined`: in equal pieces, the flat parts flipped to
+# Delaunay), which 1-to-4 would leave needles. A cube of 12 faces at 500 / 5,000 faces
+# (its cut disk's map 0.64): mean q 0.71 / 0.69, min q 0.013 / 0.000 -> 0.967 / 0.984, 0.68
+# / 0.66 split 1-to-4, and 7 s -> 0.2 s at 5,000; with its edges cut instead, seeds 0-3 at
+# 500 / 2,000 / 5,000, mean q 0.9627 / 0.9799 / 0.9866 -> 0.9612 / 0.9769 / 0.9855. A CAD
+# tessellation's needles, seeds 0-3: a quarter cylinder of 78 faces, each as long as the
+# cylinder, at 500 / 3,000 faces 0.851 / 0.950 split 1-to-4 -> 0.956 / 0.982 cut; a closed
+# cylinder of 256, 0.941 / 0.985 -> 0.969 / 0.986 (mean min q 0.49 / 0.69 -> 0.68 / 0.61).
+# The rule of before asked a mean |mu| above 0.3 and 90 % of the area in long faces (a
+# disk coarser than the output nearly everywhere; those above refine as they did): a
+# capsule 12 radii long tessellated as revolved shapes are (trimesh.creation.capsule's),
+# whose cylinder is one band of needles with 83 % of its area (77 % in such faces; its
+# cut disk's map 0.34, 163 faces folded), had mean q 0.60, min q 0.00001 and a Hausdorff
+# distance of 5.4 % at its face count, 0.994 / 0.900 / 0.08 % refined (its map 0.019); 7
+# radii long (24 %, map 0.154) 0.976 -> 0.990 (0.957 -> 0.992 numbered as trimesh does);
+# trimesh's closed cylinder of 256 faces at its face count (map 0.68, 80 % of its area in
+# such faces) 0.72 -> 0.95 (Hausdorff 19 -> 5.0 %, its creases not kept). 5 radii long
+# (8 %, map 0.105) it is left: 0.986 (numbered as trimesh does 0.969 / 0.974 at its face
+# count / half, 0.992 / 0.988 refined). camel_b.obj, whose map crowds at its slits, is
+# left: it has 10 % of its area in such faces at its face count (and
+# 9-14 % in three of its pieces cut where the map crowds at half), and refined there its
+# map goes only from 0.39 to 0.35 (0.37 at half): with 2 % asked and no gain, over seeds
+# 0-3 at its face count / half, mean q 0.9572 / 0.9379 -> 0.9569 / 0.9349, q > 0.9 84.3 ->
+# 83.1 % at half; with 2 % and a gain of 0.5 asked, its outputs the same but 0.2 / 0.6 s
+# longer (the finer maps made and not taken). At 15 %, one of its pieces at its face
+# count (35 % of its area in such faces, its map 0.32 -> 0.23 refined: 0.72) is refined
+# where a gain of 0.75 is asked: over seeds 0-3, min q 0.372 -> 0.429 but mean q 0.9572 ->
+# 0.9564 and q > 0.9 90.6 -> 90.2 %; not at 0.7. The quarter cylinder above at 60 / 100
+# faces (its map 0.51 -> 0.32 refined: 0.62) is refined as before. With a sizing field
+# none is refined (camel_b.obj with the curvature sizing: a piece cut where its map crowds, refined
+# against the mean edge length where its field asks for shorter ones, mean q 0.937 ->
+# 0.894, min q 0.41 -> 0.005). Where the map is near conformal it is not worth it: split,
+# a hexagon of 6 faces (0.000), a cone over it (0.098) and a saddle of 32 faces (0.138) at
+# 200 and 2,000 faces lost up to 0.011 of mean q; closed meshes of 1,000 to 10,000 faces at
+# 8-20 times as many (cut disks' maps 0.04-0.10) moved by -0.0002 to +0.0013 (min q up by
+# 0.00-0.08).
 COARSE_MAP_MU = 0.3
 LONG_EDGE_RATIO = 2.0
-COARSE_SHARE = 0.9
+COARSE_SHARE = 0.15
+COARSE_GAIN = 0.7
 WELL_SHAPED = 0.5
 
 
@@ -625,6 +643,31 @@ def _remesh_pieces(V, F, label, count, faces, sizing, fixed_boundary, data, repa
     return join_pieces(results, stats, "piece_faces")
 
 
+def _finer_input(V, F, dm, faces, data):
+    """The disk (V, F) refined where it is coarser than the output and its map ``dm`` far
+    from conformal (see COARSE_MAP_MU): its vertices, faces, per-vertex data and disk map,
+    or None where such faces hold too little of its area or the finer map is not much
+    nearer conformal (or the refined disk is not one the map takes: the sheared star of
+    tests/test_remesh.py, a planar disk with 20 faces folded over others, cut along its
+    edges had edges of three faces)."""
+    longest = LONG_EDGE_RATIO * output_edge_length(V, F, faces)
+    area = doublearea(V, F)
+    coarse = (face_edge_lengths(V, F).max(axis=1) > longest) & (np.abs(dm.mu) > COARSE_MAP_MU)
+    if area[coarse].sum() <= COARSE_SHARE * area.sum():
+        return None
+    if radius_ratio(V, F).min() >= WELL_SHAPED:
+        V, F, data, _ = upsampled(V, F, data, None, lambda G: 4 * len(G) >= faces)
+    else:
+        V, F, data, _ = refined(V, F, data, None, longest)
+    try:
+        finer = disk_conformal_map(V, F)
+    except MeshError:
+        return None
+    if finer.mean_abs_mu > COARSE_GAIN * dm.mean_abs_mu:
+        return None
+    return V, F, data, finer
+
+
 def _remesh_not_disk(V, F, faces, sizing, fixed_boundary, corners, boundary_edge_length, data, stats, options):
     """:func:`remesh` of a mesh that the disk validation refused for its topology (after the
     repairs): several pieces remeshed each (:func:`_remesh_pieces`); a disk with every
@@ -749,9 +792,10 @@ def remesh(
     reversed to the majority's orientation
     (``stats["reoriented_faces"]``), needles merged and caps flipped away
     (``stats["repaired_needles"]``, ``stats["repaired_caps"]``). A disk with every vertex
-    on its boundary, or coarser than the output nearly everywhere with a map far from
-    conformal (a few large faces; a CAD tessellation's needles), is refined first, the
-    surface kept (``stats["subdivided_input"]``, the faces it then has; see
+    on its boundary, or with much of its area in faces far larger than the output's on
+    which its map is far from conformal (a few large faces; a CAD tessellation's or a
+    revolved shape's needles), is refined first where that brings the map nearer
+    conformal, the surface kept (``stats["subdivided_input"]``, the faces it then has; see
     ``COARSE_MAP_MU``).
 
     Parameters
@@ -991,19 +1035,13 @@ def remesh(
         if result is None:
             raise
         return result
-    if dm.mean_abs_mu > COARSE_MAP_MU and sizing is None:
-        # (faces large or long beside the output's, see COARSE_MAP_MU; not measured
-        # against a graded edge length)
-        longest = LONG_EDGE_RATIO * output_edge_length(V, F, faces)
-        area = doublearea(V, F)
-        if area[face_edge_lengths(V, F).max(axis=1) > longest].sum() > COARSE_SHARE * area.sum():
-            if radius_ratio(V, F).min() >= WELL_SHAPED:
-                V, F, data, sizing = upsampled(V, F, data, sizing, lambda G: 4 * len(G) >= faces)
-            else:
-                V, F, data, sizing = refined(V, F, data, sizing, longest)
-            dm = disk_conformal_map(V, F)
-            stats["subdivided_input"] = len(F)
-            seams = None
+    # (faces large or long beside the output's, see COARSE_MAP_MU; not measured against a
+    # graded edge length)
+    finer = _finer_input(V, F, dm, faces, data) if sizing is None else None
+    if finer is not None:
+        V, F, data, dm = finer
+        stats["subdivided_input"] = len(F)
+        seams = None
     stats.update(
         param_mean_abs_mu=dm.mean_abs_mu, param_folded_faces=dm.folded_faces, param_repaired_faces=dm.repaired_faces
     )
