@@ -650,9 +650,12 @@ def _finer_input(V, F, dm, faces, data):
     nearer conformal (or the refined disk is not one the map takes: the sheared star of
     tests/test_remesh.py, a planar disk with 20 faces folded over others, cut along its
     edges had edges of three faces)."""
-    longest = LONG_EDGE_RATIO * output_edge_length(V, F, faces)
     area = doublearea(V, F)
-    coarse = (face_edge_lengths(V, F).max(axis=1) > longest) & (np.abs(dm.mu) > COARSE_MAP_MU)
+    far = np.flatnonzero(np.abs(dm.mu) > COARSE_MAP_MU)
+    if area[far].sum() <= COARSE_SHARE * area.sum():
+        return None
+    longest = LONG_EDGE_RATIO * output_edge_length(V, F, faces)
+    coarse = far[face_edge_lengths(V, F[far]).max(axis=1) > longest]
     if area[coarse].sum() <= COARSE_SHARE * area.sum():
         return None
     if radius_ratio(V, F).min() >= WELL_SHAPED:
