@@ -8,6 +8,7 @@ from scipy.spatial import cKDTree
 
 from conftest import (
     DATA,
+    cad_cylinder,
     cad_trough,
     grid_disk,
     holed_disk,
@@ -442,6 +443,25 @@ def test_remesh_cli_sizing_from_a_vertex_array(tmp_path, capsys):
         "qcremesh: error: --sizing does not go with --method uniform (a regular mesh of the disk)"
     )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r.ply", "sized.vtk"]
+
+
+def test_remesh_cli_points_at_creases_where_the_output_departs(tmp_path, capsys):
+    """A closed CAD cylinder (its side two needles per facet, its caps fans) at 3,000 faces
+    without --creases: a face turns over at a cap's centre, where the cut that opens the
+    surface ends, and the warning about it names the 128 edges of the rims; with them
+    kept, neither."""
+    path = tmp_path / "cylinder.obj"
+    write_mesh(path, *cad_cylinder(height=4.0))
+    out = tmp_path / "r.obj"
+    assert main(["remesh", str(path), "-o", str(out), "--faces", "3000"]) == 0
+    warning, note = capsys.readouterr().err.strip().splitlines()
+    assert re.fullmatch(r"qcremesh: warning: \d+ output faces pass through others \(the input: 0\)", warning)
+    assert note == (
+        "qcremesh: note: 128 input edges turn by more than 60 degrees: where they are creases (a CAD part), "
+        "--creases keeps them as output edges instead of rounding them off"
+    )
+    assert main(["remesh", str(path), "-o", str(out), "--faces", "3000", "--creases"]) == 0
+    assert capsys.readouterr().err == ""
 
 
 def test_remesh_cli_keeps_creases(tmp_path, capsys):

@@ -70,6 +70,12 @@ FACE_COUNT_SLACK = 0.05
 DEPARTURE_EDGES = 1.0
 
 
+# After a warning that the output departs from the input, `remesh` without --creases
+# counts the input edges across which the surface turns by more than this (--creases's
+# own default) and points at --creases where there are any.
+CREASE_HINT_DEGREES = 60.0
+
+
 # Peak memory of a remesh per output face: 1,516 MiB for hand.ply subdivided twice
 # (1.7M faces, to as many) in the committed scaling run, 0.9 KiB a face.
 MEMORY_PER_FACE = 940
@@ -113,6 +119,28 @@ def _departs(quality):
     """Whether an output leaves the input surface by more than DEPARTURE_EDGES of its mean
     edge length (``quality`` measured against the input)."""
     return (quality["hausdorff_edges"] or 0.0) > DEPARTURE_EDGES
+
+
+def _warned_departure(quality):
+    """Whether :func:`_warn_departure` warns."""
+    return _departs(quality) or quality["self_intersecting_faces"] > quality["reference_self_intersecting_faces"]
+
+
+def _hint_creases(V, F):
+    """After a warning that the output departs from the input: point at ``--creases`` where
+    the input has edges across which it turns by more than CREASE_HINT_DEGREES (a CAD
+    part's creases, which a remesh without them rounds off: trimesh's closed cylinder at
+    3,000 faces had 6 faces through others there, none with them kept)."""
+    from ..geometry.creases import sharp_edges
+
+    sharp = len(sharp_edges(V, F, CREASE_HINT_DEGREES))
+    if sharp:
+        print(
+            f"qcremesh: note: {sharp} input edge{'s turn' if sharp > 1 else ' turns'} by more than "
+            f"{CREASE_HINT_DEGREES:g} degrees: where they are creases (a CAD part), --creases keeps them as output "
+            "edges instead of rounding them off",
+            file=sys.stderr,
+        )
 
 
 def _warn_departure(quality):
@@ -508,9 +536,12 @@ def _remesh(args, out):
     # the faces as remesh kept and oriented them, where it dropped repeated ones or reversed
     # some turned against the others
     kept = np.delete(F, duplicate_faces(F), axis=0) if "duplicate_faces" in st else F
-    _warn_foldovers(V, orient_faces(kept)[0] if "reoriented_faces" in st else kept)
+    surface = orient_faces(kept)[0] if "reoriented_faces" in st else kept
+    _warn_foldovers(V, surface)
     _warn_folded(st["param_folded_faces"])
     _warn_departure(quality)
+    if args.creases is None and _warned_departure(quality):
+        _hint_creases(V, surface)
     if st["param_narrowest_share"] > CROWDED_BOUNDARY_SHARE:
         print(
             f"qcremesh: warning: the disk map crowds {100 * st['param_narrowest_share']:.0f} % of the boundary "
