@@ -171,9 +171,9 @@ RECUT_ROUNDS = 3
 # such faces) 0.72 -> 0.95 (Hausdorff 19 -> 5.0 %, its creases not kept). 5 radii long
 # (8 %, map 0.105) it is left: 0.986 (numbered as trimesh does 0.969 / 0.974 at its face
 # count / half, 0.992 / 0.988 refined). camel_b.obj, whose map crowds at its slits, is
-# left: it has 10 % of its area in such faces at its face count (and
-# 9-14 % in three of its pieces cut where the map crowds at half), and refined there its
-# map goes only from 0.39 to 0.35 (0.37 at half): with 2 % asked and no gain, over seeds
+# left: it has 10 % of its area in such faces at its face count (and 9-14 % in three of
+# its pieces cut where the map crowds at half), and refined there its map goes only from
+# 0.39 to 0.35 (0.37 at half): with 2 % asked and no gain, over seeds
 # 0-3 at its face count / half, mean q 0.9572 / 0.9379 -> 0.9569 / 0.9349, q > 0.9 84.3 ->
 # 83.1 % at half; with 2 % and a gain of 0.5 asked, its outputs the same but 0.2 / 0.6 s
 # longer (the finer maps made and not taken). At 15 %, one of its pieces at its face
@@ -181,9 +181,9 @@ RECUT_ROUNDS = 3
 # where a gain of 0.75 is asked: over seeds 0-3, min q 0.372 -> 0.429 but mean q 0.9572 ->
 # 0.9564 and q > 0.9 90.6 -> 90.2 %; not at 0.7. The quarter cylinder above at 60 / 100
 # faces (its map 0.51 -> 0.32 refined: 0.62) is refined as before. With a sizing field
-# none is refined (camel_b.obj with the curvature sizing: a piece cut where its map crowds, refined
-# against the mean edge length where its field asks for shorter ones, mean q 0.937 ->
-# 0.894, min q 0.41 -> 0.005). Where the map is near conformal it is not worth it: split,
+# none is refined (camel_b.obj with the curvature sizing: a piece cut where its map
+# crowds, refined against the mean edge length where its field asks for shorter ones,
+# mean q 0.937 -> 0.894, min q 0.41 -> 0.005). Where the map is near conformal it is not worth it: split,
 # a hexagon of 6 faces (0.000), a cone over it (0.098) and a saddle of 32 faces (0.138) at
 # 200 and 2,000 faces lost up to 0.011 of mean q; closed meshes of 1,000 to 10,000 faces at
 # 8-20 times as many (cut disks' maps 0.04-0.10) moved by -0.0002 to +0.0013 (min q up by
