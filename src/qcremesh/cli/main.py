@@ -121,11 +121,6 @@ def _departs(quality):
     return (quality["hausdorff_edges"] or 0.0) > DEPARTURE_EDGES
 
 
-def _warned_departure(quality):
-    """Whether :func:`_warn_departure` warns."""
-    return _departs(quality) or quality["self_intersecting_faces"] > quality["reference_self_intersecting_faces"]
-
-
 def _hint_creases(V, F):
     """After a warning that the output departs from the input: point at ``--creases`` where
     the input has edges across which it turns by more than CREASE_HINT_DEGREES (a CAD
@@ -146,8 +141,9 @@ def _hint_creases(V, F):
 def _warn_departure(quality):
     """Warn about an output that leaves the input surface by more than DEPARTURE_EDGES
     of its mean edge length, or in which more faces pass through others than in the
-    input (``quality`` measured against the input)."""
-    if _departs(quality):
+    input (``quality`` measured against the input); whether it warned."""
+    departs = _departs(quality)
+    if departs:
         print(
             f"qcremesh: warning: the output lies up to {100 * quality['hausdorff']:.2f} % of the diagonal from the "
             f"input, {quality['hausdorff_edges']:.1f} times its mean edge length: it does not follow the surface "
@@ -160,6 +156,7 @@ def _warn_departure(quality):
             f"qcremesh: warning: {crossing} output faces pass through others (the input: {before})",
             file=sys.stderr,
         )
+    return departs or crossing > before
 
 
 def _parser():
@@ -539,8 +536,7 @@ def _remesh(args, out):
     surface = orient_faces(kept)[0] if "reoriented_faces" in st else kept
     _warn_foldovers(V, surface)
     _warn_folded(st["param_folded_faces"])
-    _warn_departure(quality)
-    if args.creases is None and _warned_departure(quality):
+    if _warn_departure(quality) and args.creases is None:
         _hint_creases(V, surface)
     if st["param_narrowest_share"] > CROWDED_BOUNDARY_SHARE:
         print(
