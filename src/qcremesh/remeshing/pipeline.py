@@ -651,12 +651,13 @@ def _finer_input(V, F, dm, faces, data):
     tests/test_remesh.py, a planar disk with 20 faces folded over others, cut along its
     edges had edges of three faces)."""
     area = doublearea(V, F)
+    enough = COARSE_SHARE * area.sum()
     far = np.flatnonzero(np.abs(dm.mu) > COARSE_MAP_MU)
-    if area[far].sum() <= COARSE_SHARE * area.sum():
+    if area[far].sum() <= enough:
         return None
     longest = LONG_EDGE_RATIO * output_edge_length(V, F, faces)
     coarse = far[face_edge_lengths(V, F[far]).max(axis=1) > longest]
-    if area[coarse].sum() <= COARSE_SHARE * area.sum():
+    if area[coarse].sum() <= enough:
         return None
     if radius_ratio(V, F).min() >= WELL_SHAPED:
         V, F, data, _ = upsampled(V, F, data, None, lambda G: 4 * len(G) >= faces)
