@@ -207,13 +207,17 @@ def sphere_mesh(n=1500, seed=0):
     return P, F
 
 
-def torus_mesh(k=24, seed=0):
-    """A torus (radii 2 and 0.7) of k x k/2 grid cells, two triangles each: closed, genus 1."""
-    a, b = np.meshgrid(2 * np.pi * np.arange(k) / k, 2 * np.pi * np.arange(k // 2) / (k // 2), indexing="ij")
+def torus_mesh(k=24, seed=0, seam=False):
+    """A torus (radii 2 and 0.7) of k x k/2 grid cells, two triangles each: closed, genus 1.
+    With ``seam``, the ring of vertices at angle 0 around the axis is written twice, once
+    for the cells on each side of it (as a file split along its texture seam): a tube
+    whose two rims lie at the same points."""
+    rings = k + 1 if seam else k
+    a, b = np.meshgrid(2 * np.pi * np.arange(rings) / k, 2 * np.pi * np.arange(k // 2) / (k // 2), indexing="ij")
     a, b = a.ravel(), b.ravel()
     V = np.column_stack([(2 + 0.7 * np.cos(b)) * np.cos(a), (2 + 0.7 * np.cos(b)) * np.sin(a), 0.7 * np.sin(b)])
     i, j = np.meshgrid(np.arange(k), np.arange(k // 2), indexing="ij")
-    idx = lambda i, j: (i % k) * (k // 2) + j % (k // 2)  # noqa: E731
+    idx = lambda i, j: (i % rings) * (k // 2) + j % (k // 2)  # noqa: E731
     q = [idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)]
     F = np.concatenate([np.column_stack([q[0].ravel(), q[1].ravel(), q[2].ravel()]),
                         np.column_stack([q[0].ravel(), q[2].ravel(), q[3].ravel()])])

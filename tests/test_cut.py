@@ -155,6 +155,40 @@ def test_cut_to_disk_cuts_the_handles_of_a_torus():
     assert not np.any(degree == 1) and (np.sum(degree == 4) == 1 or np.sum(degree == 3) == 2)
 
 
+def test_weld_cut_tells_twins_from_other_vertices_at_the_same_point_by_their_labels():
+    """A torus split along its seam (the ring at angle 0 written twice): a tube whose two
+    rims lie at the same points. Its cut runs from a point of one rim to the same point
+    of the other, and by position alone the weld merges the copies of the two into one
+    vertex (Euler characteristic -1, not the tube's 0); with labels carried by the copies,
+    it gives the tube back."""
+    V, F = torus_mesh(seam=True)
+    assert len(boundary_loops(F)) == 2 and euler_characteristic(F) == 0
+    F_cut, parent, cut = cut_to_disk(V, F)
+    ends = V[edge_paths(cut, len(V))[0][[0, -1]]]
+    np.testing.assert_allclose(ends[0], ends[1], atol=1e-12)
+    assert euler_characteristic(weld_cut(V[parent], F_cut, V[cut], 1e-12)[1]) == -1
+    labels = np.random.default_rng(0).random((len(V), 2))[parent]
+    X, F_back, kept = weld_cut(V[parent], F_cut, V[cut], 1e-12, labels)
+    assert len(X) == len(V) and euler_characteristic(F_back) == 0 and len(boundary_loops(F_back)) == 2
+    np.testing.assert_array_equal(parent[kept][F_back], F)
+
+
+def test_torus_split_along_its_seam_remeshes_into_a_tube():
+    """The tube of the test above remeshed at its face count and half of it: it did not
+    weld (WeldError), and now keeps its topology, the two rims at the same points."""
+    V, F = torus_mesh(48, seam=True)
+    for faces in (len(F), len(F) // 2):
+        r = remesh(V, F, faces)
+        assert euler_characteristic(r.F) == 0 and len(boundary_loops(r.F)) == 2
+        assert not len(nonmanifold_edges(r.F)) and not len(nonmanifold_vertices(r.F))
+        assert abs(len(r.F) - faces) <= 0.05 * faces
+        rims = r.V[np.concatenate(boundary_loops(r.F))]
+        assert np.abs(rims[:, 1]).max() < 1e-9 and rims[:, 0].min() > 1.0  # both on the seam
+        q = mesh_quality(r.V, r.F, reference=(V, F))
+        assert q["q_mean"] > 0.97 and q["q_min"] > 0.5 and q["hausdorff"] < 0.01
+        assert "qcremesh.cut_labels" not in r.data
+
+
 def test_cut_refuses_what_it_cannot_do():
     V, F = sphere_mesh(200)
     far = int(np.argmax(np.linalg.norm(V - V[F[0, 0]], axis=1)))
@@ -743,11 +777,11 @@ def test_cut_disk_remeshed_whole_where_its_crowded_pieces_do_not_weld(monkeypatc
     assert "crowded_cuts" in remesh(V, F, len(F) // 4).stats
     calls = []
 
-    def weld_once_in_vain(X, G, segments, tol):
+    def weld_once_in_vain(X, G, segments, tol, labels=None):
         calls.append(len(G))
         if len(calls) == 1:
             return X, G, np.arange(len(X))
-        return weld_cut(X, G, segments, tol)
+        return weld_cut(X, G, segments, tol, labels)
 
     monkeypatch.setattr(pipeline, "weld_cut", weld_once_in_vain)
     r = remesh(V, F, len(F) // 4)

@@ -22,6 +22,7 @@ from .topology import (
 )
 
 __all__ = [
+    "TWIN_LABEL_TOLERANCE",
     "cut_along_edges",
     "chord_across",
     "cut_to_disk",
@@ -35,6 +36,12 @@ __all__ = [
     "weld_along_paths",
     "weld_cut",
 ]
+
+# Two vertices at the same point are twins for weld_cut where their labels differ by less
+# than this: twins lie at the same point up to about 1e-9 of an edge (the weld's tolerance
+# is 1e-7), so their labels differ by about as much; two unrelated labels (two numbers
+# uniform in [0, 1) each) come this close with a chance of about 4e-10.
+TWIN_LABEL_TOLERANCE = 1e-5
 
 
 def shortest_edge_path(V, F, source, target):
@@ -512,11 +519,16 @@ def _paths_between_loops(V, F, n, loops):
     return paths
 
 
-def weld_cut(X, F, segments, tol):
+def weld_cut(X, F, segments, tol, labels=None):
     """Close a disk mesh made by remeshing a surface cut open by :func:`cut_to_disk`: its
     boundary vertices on the cut (within ``tol`` of one of its edges) that lie within
     ``tol`` of each other (a vertex on one side of the cut and its twin on the other;
-    the copies of a branch point of the cut) are merged, at their mean. Where both sides
+    the copies of a branch point of the cut) and, where ``labels`` are given, whose labels
+    agree (within TWIN_LABEL_TOLERANCE), are merged, at their mean. The labels tell twins
+    from other vertices at the same point: a tube whose two rims meet (a torus split along
+    a seam, whose vertices there were written twice) is cut from a point of one rim to
+    the same point of the other, and the copies of the one are not those of the other.
+    Where both sides
     have an ear at the same place (a boundary vertex with one face, between two vertices
     that merge), the weld folds the two faces onto each other: both are dropped, as
     :func:`weld_along_paths` does.
@@ -528,6 +540,11 @@ def weld_cut(X, F, segments, tol):
     segments : (s, 2, 3) float
         The cut's edges.
     tol : float
+    labels : (k, c) float, optional
+        Values per vertex of the surface (random numbers in [0, 1), say) carried to each
+        vertex of the remesh, interpolated along the boundary of the cut disk: about the
+        same at the twins on the two sides of the cut, which lie at the same point of the
+        same edge, and unrelated at points of different edges.
 
     Returns
     -------
@@ -542,8 +559,11 @@ def weld_cut(X, F, segments, tol):
     segments = np.asarray(segments, dtype=np.float64).reshape(-1, 2, 3)
     border = unique_integers(boundary_edges(F))
     on_cut = border[points_on_segments(X[border], segments[:, 0], segments[:, 1], tol)]
-    pairs = cKDTree(X[on_cut]).query_pairs(tol, output_type="ndarray")
-    return _merge(X, F, on_cut[pairs])[:3]
+    pairs = on_cut[cKDTree(X[on_cut]).query_pairs(tol, output_type="ndarray")]
+    if labels is not None:
+        labels = np.asarray(labels, dtype=np.float64).reshape(len(X), -1)
+        pairs = pairs[np.all(np.abs(labels[pairs[:, 0]] - labels[pairs[:, 1]]) < TWIN_LABEL_TOLERANCE, axis=1)]
+    return _merge(X, F, pairs)[:3]
 
 
 def points_on_segments(Q, a, b, tol):

@@ -89,6 +89,11 @@ WELD_REFINE_RATIOS = (0.5, 0.25)
 # went wrong are left out, if what is left still opens the surface into a disk.
 TRIM_REACH = 3.0
 
+# The attribute that carries random labels (two numbers per input vertex, a fixed seed)
+# through the remesh of a surface cut open, so that the weld tells the twins on the two
+# sides of the cut from other vertices at the same point (weld_cut's labels).
+LABEL_KEY = "qcremesh.cut_labels"
+
 # A piece of a mesh in several whose remesh at its share of the faces does not weld back,
 # or welds into fewer than half of them, or farther from it than PIECE_MAX_DISTANCE of its
 # bounding-box diagonal, or into faces of a mean radius ratio below PIECE_MEAN_QUALITY,
@@ -235,45 +240,51 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
 
     def attempt(F_cut, parent, cut, sizing, **changed):
         """The disk F_cut (the surface cut along ``cut``) remeshed and welded shut:
-        (result, the welded levels of :func:`weld_levels` or None)."""
+        (result, the welded levels of :func:`weld_levels` or None, the labels of the output
+        vertices that :func:`~qcremesh.mesh.cut.weld_cut` takes)."""
         # Corners: where the cut ends, branches or meets the boundary.
         degree = np.bincount(cut.ravel(), minlength=len(V))
         corner = (degree > 0) & ((degree != 2) | on_boundary)
         cut_corners = np.flatnonzero(corner[parent] & np.isin(np.arange(len(parent)), boundary_edges(F_cut)))
+        cut_data = {k: np.asarray(v)[parent] for k, v in (data or {}).items()}
+        cut_data[LABEL_KEY] = np.random.default_rng(0).random((len(V), 2))[parent]
         result = remesh(
             V[parent], F_cut, faces, sizing=None if sizing is None else np.asarray(sizing)[parent],
-            fixed_boundary=True, corners=cut_corners,
-            data={k: np.asarray(v)[parent] for k, v in data.items()} if data else data, **dict(options, **changed),
+            fixed_boundary=True, corners=cut_corners, data=cut_data, **dict(options, **changed),
         )
+        labels = result.data.pop(LABEL_KEY)
         segments = V[cut]
-        return result, weld_levels(result.levels, lambda X, Fo, tol: weld_cut(X, Fo, segments, tol), chi, loops)
+        welded = weld_levels(
+            result.levels, lambda X, Fo, tol: weld_cut(X, Fo, segments, tol, labels[: len(X)]), chi, loops
+        )
+        return result, welded, labels
 
-    result, welded = attempt(F_cut, parent, cut, sizing)
+    result, welded, labels = attempt(F_cut, parent, cut, sizing)
     if welded is None and ("crowded_cuts" in result.stats or "crease_cuts" in result.stats):
         # The cut disk cut again where its map crowds or along its creases, whose seams
         # did not weld: once more without that.
-        result, welded = attempt(F_cut, parent, cut, sizing, cut_crowded=False, creases=None)
+        result, welded, labels = attempt(F_cut, parent, cut, sizing, cut_crowded=False, creases=None)
     for ratio in WELD_REFINE_RATIOS:
         if welded is not None:
             break
         # A part of the surface thinner than about two output edges that the cut runs
         # along (a cow's tail, slit to its tip) collapses in the weld: shorter edges around
         # where it did, and once more.
-        where = weld_defects(*result.levels[-1], V[cut])
+        where = weld_defects(*result.levels[-1], V[cut], labels)
         if not len(where):
             break
         local = point_sizing(V, where, edge, ratio)
         sizing = local if sizing is None else np.minimum(sizing, local)
         repairs = dict(repairs, weld_sizing_min_ratio=ratio)
-        result, welded = attempt(F_cut, parent, cut, sizing)
+        result, welded, labels = attempt(F_cut, parent, cut, sizing)
     if welded is None:
         # Still not: the cut without its part there (the slit then stops short of the
         # tail, which comes out coarse), where what is left still opens the surface.
-        trimmed = trimmed_cut(V, F, cut, weld_defects(*result.levels[-1], V[cut]), TRIM_REACH * edge)
+        trimmed = trimmed_cut(V, F, cut, weld_defects(*result.levels[-1], V[cut], labels), TRIM_REACH * edge)
         if trimmed is not None:
             F_cut, parent, cut = trimmed
             repairs = dict(repairs, cut_trimmed=True)
-            result, welded = attempt(F_cut, parent, cut, sizing)
+            result, welded, labels = attempt(F_cut, parent, cut, sizing)
     if welded is None:
         raise WeldError(f"the remesh of the surface cut open does not weld back into its topology{crack_hint(V, F)}")
     # A coarse level can have a face across two copies of a branch point of the cut

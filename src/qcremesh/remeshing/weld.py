@@ -93,13 +93,14 @@ def weld_levels(levels, join, chi, loops):
     return welded[-1], hierarchy
 
 
-def weld_defects(X, F, segments):
+def weld_defects(X, F, segments, labels=None):
     """Where the weld of a remeshed cut disk (X, F) along its cut (``segments``, (s, 2,
-    3)) goes wrong: the points of the welded mesh at its non-manifold edges and vertices,
-    and the centroids of the faces it folds onto others (and drops), (k, 3); none where
-    it goes wrong otherwise or not at all."""
+    3); ``labels`` as :func:`~qcremesh.mesh.cut.weld_cut` takes them) goes wrong: the points
+    of the welded mesh at its non-manifold edges and vertices, and the centroids of the
+    faces it folds onto others (and drops), (k, 3); none where it goes wrong otherwise or
+    not at all."""
     try:
-        Xw, Fw, _ = weld_cut(X, F, segments, weld_tolerance(X, F))
+        Xw, Fw, _ = weld_cut(X, F, segments, weld_tolerance(X, F), labels)
     except ValueError:
         return np.zeros((0, 3))
     # each vertex's welded one: itself, or the mean of it and its twins, the nearest
