@@ -224,6 +224,19 @@ def torus_mesh(k=24, seed=0, seam=False):
     return V, F
 
 
+def uv_sphere(nu=24, nv=12):
+    """A unit sphere as a (nu + 1) x (nv + 1) grid of vertices in longitude and
+    latitude, two triangles per cell, every seam written twice (as a textured mesh is):
+    the meridian at longitude 0 once per side, and each pole once per face there (whose
+    fans are faces of zero area). A disk, on which the seams are boundary."""
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, nu + 1), np.linspace(0, np.pi, nv + 1), indexing="ij")
+    u, v = u.ravel(), v.ravel()
+    V = np.column_stack([np.sin(v) * np.cos(u), np.sin(v) * np.sin(u), np.cos(v)])
+    idx = np.arange(len(V)).reshape(nu + 1, nv + 1)
+    a, b, c, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
+    return V, np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
+
+
 def cad_cylinder(sections=64, height=2.0, lid=True):
     """A closed cylinder of radius 1 tessellated as CAD exports do (and numbered as
     trimesh.creation.cylinder numbers it): each facet of its side two triangles as long

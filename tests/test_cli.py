@@ -21,11 +21,13 @@ from conftest import (
     strip_disk,
     torus_mesh,
     tube_disk,
+    uv_sphere,
 )
 from qcremesh.cli.main import _warn_departure, main
 from qcremesh.geometry.quality import mesh_quality
 from qcremesh.mesh.io import read_mesh, write_mesh
 from qcremesh.mesh.subdivide import upsample
+from qcremesh.mesh.topology import boundary_edges
 
 
 def test_param_writes_obj_with_disk_uv(tmp_path, capsys):
@@ -336,7 +338,8 @@ def test_remesh_cli_errors(tmp_path, capsys):
     assert err == (
         f"qcremesh: error: {DATA / 'featuretype.STL'}: the remesh of the surface cut open does not weld back "
         "into its topology (576 of its 576 boundary vertices lie at the same points as others: cracks between "
-        "faces whose shared corners are not one vertex; merge them first)"
+        "faces whose shared corners are not one vertex, or seams written twice; weld_seams=True (--weld-seams) "
+        "merges them first)"
     )
     assert main(["remesh", str(DATA / "fran_cut.ply"), "-o", str(out), "--faces", "2"]) == 1
     assert capsys.readouterr().err.strip() == "qcremesh: error: --faces must be at least 4"
@@ -462,6 +465,29 @@ def test_remesh_cli_points_at_creases_where_the_output_departs(tmp_path, capsys)
     )
     assert main(["remesh", str(path), "-o", str(out), "--faces", "3000", "--creases"]) == 0
     assert capsys.readouterr().err == ""
+
+
+def test_remesh_cli_points_at_weld_seams_and_welds_them(tmp_path, capsys):
+    """A sphere written with its seams twice: remeshed as the disk it is, with a note that
+    counts its boundary vertices at the same points as others; with --weld-seams, closed,
+    and the merge said among the repairs."""
+    path = tmp_path / "sphere.obj"
+    write_mesh(path, *uv_sphere(32, 16))
+    out = tmp_path / "r.obj"
+    assert main(["remesh", str(path), "-o", str(out), "--faces", "1000"]) == 0
+    captured = capsys.readouterr()
+    assert "boundary loops 1," in captured.out
+    assert captured.err.strip() == (
+        "qcremesh: note: 96 boundary vertices of the input lie at the same points as others: where they are seams "
+        "written twice (a textured mesh), they stay boundary in the output, and --weld-seams merges them first"
+    )
+    assert main(["remesh", str(path), "-o", str(out), "--faces", "1000", "--weld-seams"]) == 0
+    captured = capsys.readouterr()
+    assert "boundary loops 0, Euler characteristic 2," in captured.out
+    assert "79 boundary vertices at the same points as others merged (seams)" in captured.out
+    assert captured.err == ""
+    V, F = read_mesh(out)
+    assert not len(boundary_edges(F))
 
 
 def test_remesh_cli_keeps_creases(tmp_path, capsys):

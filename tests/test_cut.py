@@ -4,7 +4,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components as graph_components
 from scipy.sparse.csgraph import floyd_warshall
 
-from conftest import DATA, grid_cells, grid_disk, holed_disk, shapes, shared, sphere_mesh, torus_mesh
+from conftest import DATA, grid_cells, grid_disk, holed_disk, shapes, shared, sphere_mesh, torus_mesh, uv_sphere
 from qcremesh.adaptive.sizing import curvature_sizing
 from qcremesh.geometry.distance import point_mesh_distance
 from qcremesh.geometry.operators import doublearea
@@ -23,6 +23,7 @@ from qcremesh.mesh.cut import (
     shortest_edge_path,
     weld_along_paths,
     weld_cut,
+    weld_seams,
 )
 from qcremesh.mesh.topology import (
     boundary_edges,
@@ -187,6 +188,45 @@ def test_torus_split_along_its_seam_remeshes_into_a_tube():
         q = mesh_quality(r.V, r.F, reference=(V, F))
         assert q["q_mean"] > 0.97 and q["q_min"] > 0.5 and q["hausdorff"] < 0.01
         assert "qcremesh.cut_labels" not in r.data
+
+
+def test_weld_seams_merges_the_vertices_of_seams_written_twice():
+    """The torus whose ring at angle 0 is written twice: its 12 copies merged, it is the
+    closed torus again. A sphere written as a grid in longitude and latitude: its
+    meridian's copies and its poles' (one per face there) merged, the faces at the poles
+    with two corners merged go, and it is a closed sphere with one vertex per pole."""
+    V, F = torus_mesh(seam=True)
+    X, G, kept, merged = weld_seams(V, F)
+    assert len(X) == len(V) - 12 and not len(boundary_edges(G)) and euler_characteristic(G) == 0
+    np.testing.assert_array_equal(G, merged[F])
+    np.testing.assert_allclose(X, V[kept], atol=1e-12)  # (the mean of the copies, to rounding)
+    np.testing.assert_array_equal(merged[kept], np.arange(len(kept)))
+    V, F = uv_sphere(24, 12)
+    X, G, kept, merged = weld_seams(V, F)
+    assert len(X) == 24 * 11 + 2 and len(G) == 2 * 24 * 12 - 2 * 24
+    assert not len(boundary_edges(G)) and euler_characteristic(G) == 2 and not len(nonmanifold_edges(G))
+    assert not len(nonmanifold_vertices(G))
+    uv, D = grid_disk(6)  # nothing at the same point: as it was
+    P = np.column_stack([uv, np.zeros(len(uv))])
+    X, G, kept, merged = weld_seams(P, D)
+    np.testing.assert_array_equal(G, D)
+    np.testing.assert_array_equal(kept, np.arange(len(P)))
+
+
+def test_remesh_with_weld_seams_remeshes_the_surface_whole():
+    """Without weld_seams, a sphere written with its seams twice is remeshed as the disk
+    it is, the seams boundary; with it, as the closed sphere, its per-vertex data (the
+    first copy's) carried over."""
+    V, F = uv_sphere(32, 16)
+    r = remesh(V, F, 1000)
+    assert len(boundary_loops(r.F)) == 1 and "welded_seam_vertices" not in r.stats
+    r = remesh(V, F, 1000, weld_seams=True, data={"height": V[:, 2]})
+    assert r.stats["welded_seam_vertices"] == 17 + 2 * 32 - 2
+    assert not len(boundary_edges(r.F)) and euler_characteristic(r.F) == 2
+    assert not len(nonmanifold_edges(r.F)) and not len(nonmanifold_vertices(r.F))
+    q = mesh_quality(r.V, r.F, reference=(V, F))
+    assert q["q_mean"] > 0.98 and q["q_min"] > 0.6 and q["hausdorff"] < 0.005
+    np.testing.assert_allclose(r.data["height"], r.V[:, 2], atol=0.01)
 
 
 def test_cut_refuses_what_it_cannot_do():

@@ -2,9 +2,10 @@ import numpy as np
 import pytest
 
 from conftest import grid_disk
+from qcremesh.mesh.cut import coincident_pairs
 from qcremesh.mesh.subdivide import upsample
 from qcremesh.remeshing.cut_paths import split_pieces
-from qcremesh.remeshing.weld import WELD_TOLERANCE, coincident_pairs, crack_hint, weld_levels, weld_tolerance
+from qcremesh.remeshing.weld import WELD_TOLERANCE, crack_hint, weld_levels, weld_tolerance
 
 
 def cracked_grid():
@@ -41,7 +42,8 @@ def test_coincident_pairs_and_the_crack_hint():
     # the grid's 20 border vertices, the 4 inner ones of the crack and their 6 copies
     assert crack_hint(V, F) == (
         " (12 of its 30 boundary vertices lie at the same points as others: "
-        "cracks between faces whose shared corners are not one vertex; merge them first)"
+        "cracks between faces whose shared corners are not one vertex, or seams written twice; weld_seams=True "
+        "(--weld-seams) merges them first)"
     )
     uv, G = grid_disk(6)
     assert crack_hint(np.column_stack([uv, np.zeros(len(uv))]), G) == ""

@@ -55,7 +55,7 @@ def remesh_file(
         (matplotlib needed).
     **options
         Further keyword arguments of :func:`qcremesh.remesh` (``seed``, ``levels``,
-        ``method``, ``relax``, ``creases``, ``cut_crowded``).
+        ``method``, ``relax``, ``creases``, ``cut_crowded``, ``weld_seams``).
 
     Returns
     -------

@@ -138,6 +138,24 @@ def _hint_creases(V, F):
         )
 
 
+def _hint_seams(V, F):
+    """Point at ``--weld-seams`` where boundary vertices of the input lie at the same
+    points as others: seams written twice (a textured mesh), which stay boundary in the
+    output, or a surface cut open along slits on purpose (camel_b.obj)."""
+    import numpy as np
+
+    from ..mesh.cut import coincident_pairs
+
+    twins = len(np.unique(coincident_pairs(V, np.unique(boundary_edges(F)))))
+    if twins:
+        print(
+            f"qcremesh: note: {twins} boundary vertices of the input lie at the same points as others: where they "
+            "are seams written twice (a textured mesh), they stay boundary in the output, and --weld-seams merges "
+            "them first",
+            file=sys.stderr,
+        )
+
+
 def _warn_departure(quality):
     """Warn about an output that leaves the input surface by more than DEPARTURE_EDGES
     of its mean edge length, or in which more faces pass through others than in the
@@ -266,6 +284,12 @@ def _add_remesh_options(parser):
         metavar="DEG",
         help="keep the creases: the edges across which the surface turns by more than DEG degrees (60 if "
         "not given; CAD tessellations) become output edges",
+    )
+    parser.add_argument(
+        "--weld-seams",
+        action="store_true",
+        help="first merge the boundary vertices at the same points as others: a surface written with its seams "
+        "split (textured meshes often are), whose seams stay boundary without it",
     )
 
 
@@ -410,7 +434,8 @@ def _remesh(args, out):
         result = remesh(
             V, F, faces, levels=args.levels, method=args.method, seed=args.seed, relax=args.relax, snap=args.snap,
             teichmuller_iterations=args.teichmuller_iterations,
-            sizing=sizing, cut_crowded=not args.whole, creases=args.creases, data=data, progress=update,
+            sizing=sizing, cut_crowded=not args.whole, creases=args.creases, weld_seams=args.weld_seams, data=data,
+            progress=update,
         )
     except MeshError as exc:
         raise CommandError(f"{args.input}: {exc}") from exc
@@ -436,6 +461,8 @@ def _remesh(args, out):
         mended.append(f"{st['split_edges']} edges of more than two faces: the sheets beyond the flattest two detached")
     if "split_vertices" in st:
         mended.append(f"{st['split_vertices']} vertices where sheets touch split, one per sheet")
+    if "welded_seam_vertices" in st:
+        mended.append(f"{st['welded_seam_vertices']} boundary vertices at the same points as others merged (seams)")
     if "reoriented_faces" in st:
         mended.append(f"{st['reoriented_faces']} faces turned against their neighbours reversed")
     if "repaired_needles" in st:
@@ -538,6 +565,8 @@ def _remesh(args, out):
     _warn_folded(st["param_folded_faces"])
     if _warn_departure(quality) and args.creases is None:
         _hint_creases(V, surface)
+    if not args.weld_seams:
+        _hint_seams(V, F)
     if st["param_narrowest_share"] > CROWDED_BOUNDARY_SHARE:
         print(
             f"qcremesh: warning: the disk map crowds {100 * st['param_narrowest_share']:.0f} % of the boundary "
@@ -630,7 +659,7 @@ def _batch(args, out):
         method=args.method, seed=args.seed, relax=args.relax, snap=args.snap,
         teichmuller_iterations=args.teichmuller_iterations,
         sizing=args.sizing, cut_crowded=not args.whole,
-        creases=args.creases,
+        creases=args.creases, weld_seams=args.weld_seams,
     )
     start = time.perf_counter()
     records = []

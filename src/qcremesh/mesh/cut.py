@@ -17,6 +17,7 @@ from .topology import (
     genus,
     half_edges,
     nonmanifold_edges,
+    repeated_corner_faces,
     twin_half_edges,
     unique_integers,
 )
@@ -25,6 +26,7 @@ __all__ = [
     "TWIN_LABEL_TOLERANCE",
     "cut_along_edges",
     "chord_across",
+    "coincident_pairs",
     "cut_to_disk",
     "edge_paths",
     "path_edges",
@@ -35,6 +37,7 @@ __all__ = [
     "shortest_edge_path",
     "weld_along_paths",
     "weld_cut",
+    "weld_seams",
 ]
 
 # Two vertices at the same point are twins for weld_cut where their labels differ by less
@@ -517,6 +520,59 @@ def _paths_between_loops(V, F, n, loops):
         used[path] = True
         paths.append(path)
     return paths
+
+
+def coincident_pairs(V, vertices):
+    """The pairs of ``vertices`` at the same point (within 1e-9 of the bounding-box
+    diagonal), as vertex indices, (p, 2) int."""
+    vertices = np.asarray(vertices)
+    tol = 1e-9 * np.linalg.norm(np.ptp(V, axis=0))
+    return vertices[cKDTree(V[vertices]).query_pairs(tol, output_type="ndarray")]
+
+
+def weld_seams(V, F):
+    """Merge the boundary vertices of a mesh that lie at the same point as others (within
+    1e-9 of its bounding-box diagonal, :func:`coincident_pairs`) into one: a surface
+    written with its seams split, each vertex on a seam once for the faces on each side
+    (as files of textured meshes often are, one vertex per texture coordinate), whose
+    seams become boundary, is given back whole.
+
+    Parameters
+    ----------
+    V : (n, 3) float
+    F : (m, 3) int
+
+    Returns
+    -------
+    V : (n', 3) float
+        The vertices kept (a group merged into its first vertex, at their mean).
+    F : (m', 3) int64
+        The faces renumbered (two faces the merge folds onto each other both dropped,
+        as :func:`weld_cut` does, and those with two corners merged).
+    kept : (n',) int64
+        The index in ``V`` of each vertex kept.
+    merged : (n,) int64
+        The vertex kept that each vertex of ``V`` became (-1 where none).
+
+    Where boundaries meet at points rather than along seams (the tips of slits cut
+    into a closed surface, camel_b.obj: one vertex), the merge leaves a vertex where
+    sheets touch, or an edge of more than two faces, for the caller to mend or refuse.
+    """
+    V = np.asarray(V, dtype=np.float64)
+    F = np.asarray(F, dtype=np.int64)
+    pairs = coincident_pairs(V, unique_integers(boundary_edges(F)))
+    if not len(pairs):
+        return V, F, np.arange(len(V)), np.arange(len(V))
+    X, G, kept, merged = _merge(V, F, pairs)
+    collapsed = repeated_corner_faces(G)
+    if collapsed.any():
+        # two corners of a face merged (the fan of faces at a pole of a sphere written
+        # with one vertex per face there): the face has no area left and goes
+        X, G, again = _without_unused(X, G[~collapsed])
+        new = np.full(len(kept), -1, dtype=np.int64)
+        new[again] = np.arange(len(again))
+        kept, merged = kept[again], np.where(merged >= 0, new[merged], -1)
+    return X, G, kept, merged
 
 
 def weld_cut(X, F, segments, tol, labels=None):

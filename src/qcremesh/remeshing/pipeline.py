@@ -38,7 +38,16 @@ from ..geometry.creases import check_crease_angle, sharp_edges
 from ..geometry.distance import hausdorff_distance
 from ..geometry.operators import doublearea
 from ..geometry.quality import radius_ratio
-from ..mesh.cut import cut_along_edges, cut_to_disk, edge_paths, path_edges, weld_along_paths, weld_cut
+from ..mesh.cut import (
+    coincident_pairs,
+    cut_along_edges,
+    cut_to_disk,
+    edge_paths,
+    path_edges,
+    weld_along_paths,
+    weld_cut,
+)
+from ..mesh.cut import weld_seams as cut_weld_seams
 from ..mesh.topology import (
     boundary_edges,
     boundary_loop,
@@ -75,7 +84,7 @@ from .mend import refine_long_boundary, refined, renumbered, repair_input, upsam
 from .relax import SNAP_REACH
 from .result import RemeshResult, StageTimes
 from .seams import smooth_seams
-from .weld import WeldError, coincident_pairs, crack_hint, join_pieces, weld_defects, weld_levels
+from .weld import WeldError, crack_hint, join_pieces, weld_defects, weld_levels
 
 __all__ = ["METHODS", "RemeshResult", "remesh"]
 
@@ -780,6 +789,7 @@ def remesh(
     boundary_edge_length=None,
     cut_crowded=True,
     creases=None,
+    weld_seams=False,
     data=None,
     progress=None,
     edge_length=None,
@@ -942,6 +952,16 @@ def remesh(
         would leave a piece too small, a piece is not a disk or is refused, or the pieces
         did not weld back, and the disk was remeshed whole). Needs ``relax`` and a method
         other than ``"uniform"``. None (the default): not looked for.
+    weld_seams : bool
+        First merge the boundary vertices at the same points as others
+        (:func:`qcremesh.mesh.cut.weld_seams`): a surface written with its seams split
+        (a textured mesh, one vertex per texture coordinate), whose seams are otherwise
+        boundary, in the output too, is remeshed whole
+        (``stats["welded_seam_vertices"]``, the vertices merged away; the data and
+        sizing of a group are those of its first vertex, so texture coordinates, which
+        jump across a seam, come out wrong on the faces beside it; the corners
+        renumbered; where boundaries meet at points, the vertex where sheets then touch
+        is split as the input's own are).
     data : dict of str to (n,) or (n, d) array, optional
         Per-vertex attributes (normals, colours, scalars, UVs) to carry to the output.
     progress : callable, optional
@@ -1004,6 +1024,15 @@ def remesh(
         levels = 0
     levels = levels_above_min_base(faces, levels)
     stats = {"levels": levels}
+    if weld_seams:
+        if seams is not None:
+            raise ValueError("weld_seams takes no fixed_boundary per vertex")
+        V, F, kept, merged = cut_weld_seams(V, F)
+        if len(kept) < len(merged):
+            stats["welded_seam_vertices"] = len(merged) - len(kept)
+            data = {k: np.asarray(v)[kept] for k, v in data.items()} if data else data
+            sizing = sizing if sizing is None else sizing[kept]
+            corners = corners if corners is None else np.unique(merged[corners][merged[corners] >= 0])
     clock = StageTimes(progress)
 
     options = dict(

@@ -8,7 +8,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..geometry.threads import query_workers
-from ..mesh.cut import weld_cut
+from ..mesh.cut import coincident_pairs, weld_cut
 from ..mesh.topology import (
     boundary_edges,
     boundary_loops,
@@ -24,7 +24,6 @@ from .result import RemeshResult
 __all__ = [
     "WELD_TOLERANCE",
     "WeldError",
-    "coincident_pairs",
     "crack_hint",
     "join_pieces",
     "weld_defects",
@@ -111,25 +110,19 @@ def weld_defects(X, F, segments, labels=None):
     return np.concatenate([Xw[bad], X[F[folded]].mean(1)])
 
 
-def coincident_pairs(V, vertices):
-    """The pairs of ``vertices`` at the same point (within 1e-9 of the bounding-box
-    diagonal), as vertex indices, (p, 2) int."""
-    vertices = np.asarray(vertices)
-    tol = 1e-9 * np.linalg.norm(np.ptp(V, axis=0))
-    return vertices[cKDTree(V[vertices]).query_pairs(tol, output_type="ndarray")]
-
-
 def crack_hint(V, F):
     """What an error says of boundary vertices at the same points as others: cracks
     between faces whose shared corners were written apart (a CAD part saved face by
-    face); "" where there are none."""
+    face), or seams written twice (a textured mesh), which
+    :func:`qcremesh.mesh.cut.weld_seams` merges; "" where there are none."""
     border = np.unique(boundary_edges(F))
     twins = np.unique(coincident_pairs(V, border))
     if not len(twins):
         return ""
     return (
         f" ({len(twins)} of its {len(border)} boundary vertices lie at the same points as others: "
-        "cracks between faces whose shared corners are not one vertex; merge them first)"
+        "cracks between faces whose shared corners are not one vertex, or seams written twice; weld_seams=True "
+        "(--weld-seams) merges them first)"
     )
 
 
