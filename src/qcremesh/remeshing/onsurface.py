@@ -181,6 +181,12 @@ class BoundaryCurve:
         """Smoothed arc length of the boundary points at circle angles ``theta``, (k,)."""
         return np.interp(self.theta[0] + np.mod(theta - self.theta[0], 2 * np.pi), self.theta_knots, self.s)
 
+    def edge_at(self, s):
+        """Position in ``loop`` of the first vertex of the input boundary edge each arc
+        length s lies on, (k,)."""
+        edge = np.searchsorted(self.s, np.mod(s, self.perimeter), side="right") - 1
+        return np.clip(edge, 0, len(self.loop) - 1)
+
     def at(self, s):
         """Disk positions (k, 2) and surface positions (k, 3) of the points at arc length s."""
         theta = np.interp(np.mod(s, self.perimeter), self.s, self.theta_knots)
