@@ -355,12 +355,14 @@ def relax_on_surface(
         uv[bnd], X[bnd] = curve.at(s)
         pinned = pinned | _on_fixed_edges(on_circle, bnd, s, curve, fixed_boundary)
         if np.ndim(fixed_boundary) == 0:
-            # The whole boundary is a cut through the surface (not a scan's ragged border):
-            # its vertices, pinned, take the input face beside the edge they lie on, so
-            # that the faces at the cut are judged for turning over too (stars.input_up;
-            # a closed CAD cylinder at 3,000 faces: 6 faces through others, at the
-            # centre of a cap where its cut ends -> 0; decimated-max at half its face
-            # count min q 0.543 -> 0.667; the other benchmark meshes cut open the same).
+            # A surface cut open (its cut, and the loops of its own boundary the cut
+            # joins, all held): the boundary vertices, pinned, take the input face beside
+            # the edge they lie on, so that the faces at the cut (whose two sides are
+            # the same surface, not a scan's ragged border) are judged for turning over
+            # too (stars.input_up; a closed CAD cylinder at 3,000 faces: 6 faces
+            # through others, at the centre of a cap where its cut ends -> 0;
+            # decimated-max at half its face count min q 0.543 -> 0.667; alex_3, whose
+            # holes are ragged, Hand1.off and face-YH the same).
             face[bnd] = _faces_beside(surface, curve.loop, curve.edge_at(s))
     moved = np.flatnonzero(free)
     ring, ring_bnd = A[moved], A[bnd]
