@@ -144,9 +144,9 @@ def _hint_seams(V, F):
     output, or a surface cut open along slits on purpose (camel_b.obj)."""
     import numpy as np
 
-    from ..mesh.cut import coincident_pairs
+    from ..mesh.cut import coincident_boundary_pairs
 
-    twins = len(np.unique(coincident_pairs(V, np.unique(boundary_edges(F)))))
+    twins = len(np.unique(coincident_boundary_pairs(V, F)))
     if twins:
         print(
             f"qcremesh: note: {twins} boundary vertices of the input lie at the same points as others: where they "

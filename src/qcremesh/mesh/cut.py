@@ -26,6 +26,7 @@ __all__ = [
     "TWIN_LABEL_TOLERANCE",
     "cut_along_edges",
     "chord_across",
+    "coincident_boundary_pairs",
     "coincident_pairs",
     "cut_to_disk",
     "edge_paths",
@@ -530,9 +531,15 @@ def coincident_pairs(V, vertices):
     return vertices[cKDTree(V[vertices]).query_pairs(tol, output_type="ndarray")]
 
 
+def coincident_boundary_pairs(V, F):
+    """The pairs of boundary vertices of the mesh (V, F) at the same point
+    (:func:`coincident_pairs`): cracks, seams written twice, slits, (p, 2) int."""
+    return coincident_pairs(V, unique_integers(boundary_edges(F)))
+
+
 def weld_seams(V, F):
     """Merge the boundary vertices of a mesh that lie at the same point as others (within
-    1e-9 of its bounding-box diagonal, :func:`coincident_pairs`) into one: a surface
+    1e-9 of its bounding-box diagonal, :func:`coincident_boundary_pairs`) into one: a surface
     written with its seams split, each vertex on a seam once for the faces on each side
     (as files of textured meshes often are, one vertex per texture coordinate), whose
     seams become boundary, is given back whole.
@@ -560,7 +567,7 @@ def weld_seams(V, F):
     """
     V = np.asarray(V, dtype=np.float64)
     F = np.asarray(F, dtype=np.int64)
-    pairs = coincident_pairs(V, unique_integers(boundary_edges(F)))
+    pairs = coincident_boundary_pairs(V, F)
     if not len(pairs):
         return V, F, np.arange(len(V)), np.arange(len(V))
     X, G, kept, merged = _merge(V, F, pairs)

@@ -8,7 +8,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..geometry.threads import query_workers
-from ..mesh.cut import coincident_pairs, weld_cut
+from ..mesh.cut import coincident_boundary_pairs, weld_cut
 from ..mesh.topology import (
     boundary_edges,
     boundary_loops,
@@ -115,10 +115,10 @@ def crack_hint(V, F):
     between faces whose shared corners were written apart (a CAD part saved face by
     face), or seams written twice (a textured mesh), which
     :func:`qcremesh.mesh.cut.weld_seams` merges; "" where there are none."""
-    border = np.unique(boundary_edges(F))
-    twins = np.unique(coincident_pairs(V, border))
+    twins = np.unique(coincident_boundary_pairs(V, F))
     if not len(twins):
         return ""
+    border = np.unique(boundary_edges(F))
     return (
         f" ({len(twins)} of its {len(border)} boundary vertices lie at the same points as others: "
         "cracks between faces whose shared corners are not one vertex, or seams written twice; weld_seams=True "
