@@ -5,10 +5,12 @@ import pytest
 
 from conftest import DATA
 from qcremesh.geometry.quality import (
+    corner_normals_up,
     corner_radius_ratio_bound,
     mesh_quality,
     min_angle,
     radius_ratio,
+    surface_side_quality,
     triangle_angles,
     valence6_fraction,
     vertex_valence,
@@ -175,3 +177,18 @@ def test_corner_radius_ratio_bound():
         P[:, 2, :2] = r[:, 1:2] * [np.cos(angle), np.sin(angle)]
         q = radius_ratio(P.reshape(-1, 3), np.arange(600).reshape(-1, 3))
         assert q.max() <= corner_radius_ratio_bound(angle)[0] + 1e-12
+
+
+def test_surface_side_quality_negates_faces_turned_over():
+    """Two equilateral triangles in the plane z = 0, one counter-clockwise seen from +z
+    and one clockwise: against the normal +z the second is turned over (-1), against a
+    zero normal nothing is; the normals at three corners sum to the side of the surface,
+    or to zero where one turns by more than about 100 degrees from the other two."""
+    X = np.array([[0, 0, 0], [1, 0, 0], [0.5, 3**0.5 / 2, 0]], dtype=float)
+    T = np.array([[0, 1, 2], [0, 2, 1]])
+    z = np.tile([0.0, 0.0, 1.0], (2, 1))
+    np.testing.assert_allclose(surface_side_quality(X, T, z), [1.0, -1.0])
+    np.testing.assert_allclose(surface_side_quality(X, T, np.zeros((2, 3))), [1.0, 1.0])
+    tilted = [[np.sin(np.radians(a)), 0.0, np.cos(np.radians(a))] for a in (80, 120)]
+    up = corner_normals_up([[[0, 0, 1], [0, 0, 1], tilted[0]], [[0, 0, 1], [0, 0, 1], tilted[1]]])
+    assert up[0, 2] > 2 and np.all(up[1] == 0)

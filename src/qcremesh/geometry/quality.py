@@ -26,6 +26,8 @@ from .vectors import norm
 
 __all__ = [
     "radius_ratio",
+    "surface_side_quality",
+    "corner_normals_up",
     "triangle_angles",
     "min_angle",
     "corner_radius_ratio_bound",
@@ -97,6 +99,26 @@ def radius_ratio(V, F):
         dbl = norm(cross_product(a, b))
     den = opposite.sum(1) * opposite.prod(1)
     return np.divide(4 * dbl**2, den, out=np.zeros(len(den)), where=den > 0)
+
+
+def corner_normals_up(normals):
+    """The side of the surface under faces from unit normals of the surface at their three
+    corners, (f, 3, 3): their sum, (f, 3), or zero where it is shorter than 2 (one normal
+    more than about 100 degrees from the other two: a face across a fold of the surface,
+    such as the two walls of a narrow pocket, has no side to be on)."""
+    up = np.asarray(normals, dtype=np.float64).sum(1)
+    up[norm(up) < 2.0] = 0.0
+    return up
+
+
+def surface_side_quality(X, T, up):
+    """Radius ratio of faces ``T`` of a mesh on a surface, negated where the face is
+    turned over: its normal makes more than 90 degrees with ``up``, the normal of the
+    surface under it (never where ``up`` is zero). (f,) for X (n, 3), T (f, 3), up (f, 3).
+    """
+    P = np.take(X, T, axis=0)
+    normal = cross_product(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
+    return np.where((normal * up).sum(1) >= 0, 1.0, -1.0) * radius_ratio(X, T)
 
 
 def triangle_angles(V, F):

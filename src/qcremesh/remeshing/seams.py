@@ -55,7 +55,7 @@ import numpy as np
 
 from ..geometry.distance import point_mesh_distance
 from ..geometry.locate import interpolate_barycentric
-from ..geometry.quality import radius_ratio
+from ..geometry.quality import radius_ratio, surface_side_quality
 from ..mesh.cut import points_on_segments
 from ..mesh.topology import adjacency_matrix, boundary_edges, edges, vertex_face_incidence
 from .compiled import smooth_targets_kernel
@@ -63,7 +63,7 @@ from .guard import DistanceGuard
 from .onsurface import closest_point_near
 from .project import in_type
 from .smoothing import edge_lengths, smooth_targets
-from .stars import input_face_normals, input_up, surface_side_quality
+from .stars import input_face_normals, input_up
 
 __all__ = ["smooth_seams"]
 

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..geometry.distance import point_segment_distance
 from ..geometry.locate import interpolate_barycentric
-from ..geometry.quality import radius_ratio
+from ..geometry.quality import corner_normals_up, surface_side_quality
 from ..geometry.vectors import cross, norm
 from .onsurface import closest_point_near, csr_rows, independent_first
 
@@ -22,7 +22,6 @@ __all__ = [
     "input_up",
     "mean_edge_length",
     "star_radius_ratios",
-    "surface_side_quality",
     "tangent_candidates",
 ]
 
@@ -36,15 +35,6 @@ def input_face_normals(V, F):
     return normals / np.maximum(norm(normals), 1e-300)[:, None]
 
 
-def surface_side_quality(X, T, up):
-    """Radius ratio of faces ``T`` of a mesh on a surface, negated where the face is
-    turned over: its normal makes more than 90 degrees with ``up``, the normal of the
-    input surface under it. (f,) for T (f, 3), up (f, 3)."""
-    P = np.take(X, T, axis=0)
-    normal = cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
-    return np.where((normal * up).sum(1) >= 0, 1.0, -1.0) * radius_ratio(X, T)
-
-
 def input_up(T, face, input_normals):
     """Normal of the input surface under output faces ``T``: the sum of the input face
     normals at their three vertices (``face`` is the input face each output vertex lies
@@ -52,14 +42,13 @@ def input_up(T, face, input_normals):
     3). Faces with a vertex at -1 get zero and are never taken as turned over: along a
     jagged scan border the input's normals are too irregular to judge by (judged by the
     normals under their other vertices: camel_b min q 0.339 -> 0.140 at its face count,
-    hand.ply 3 faces through others). So do faces over a fold of the input, where the sum
-    of the three unit normals is shorter than 2 (one of them more than about 100 degrees
-    from the other two): a face across the two walls of a narrow pocket has no side, and
-    taken as turned over it blocked every move of its vertices (human_face at half its
-    face count, seed 1: min q 0.079, now 0.485)."""
+    hand.ply 3 faces through others). So do faces over a fold of the input
+    (:func:`~qcremesh.geometry.quality.corner_normals_up`): a face across the two walls of
+    a narrow pocket has no side, and taken as turned over it blocked every move of its
+    vertices (human_face at half its face count, seed 1: min q 0.079, now 0.485)."""
     under = np.take(face, T)
-    up = np.take(input_normals, under, axis=0).sum(1)
-    up[(under < 0).any(1) | (norm(up) < 2.0)] = 0.0
+    up = corner_normals_up(np.take(input_normals, under, axis=0))
+    up[(under < 0).any(1)] = 0.0
     return up
 
 
