@@ -10,6 +10,7 @@ from qcremesh.adaptive.basemesh import (
     flip_for_valence,
     hexagonal_disk_points,
     subdivide_disk_mesh,
+    surface_quality,
 )
 from qcremesh.adaptive import landmarks
 from qcremesh.adaptive.density import area_distortion, vertex_density
@@ -397,6 +398,30 @@ def test_flips_raise_the_quality_on_a_stretched_surface():
     before, after = radius_ratio(X, F), radius_ratio(X, G)
     assert after.min() >= before.min() and after.mean() > 0.8 > 0.35 > before.mean()
     same, none = flip_for_surface_quality(uv, F, X, np.zeros(len(uv), dtype=bool))
+    assert none == 0 and np.array_equal(same, F)
+
+
+def test_flips_turn_back_an_ear_over_a_reflex_corner():
+    """An L-shaped plane mapped onto the disk, its six corners on the circle and one
+    vertex inside: the ear of the three corners around the reflex one is
+    counter-clockwise in the disk but turned over on the surface, with a radius ratio of
+    0.83 that no unsigned measure faults. Judged by the plane's normal at the vertices,
+    its edges flip (three: the reflex corner gets four faces) until every face is
+    upright, none below the 0.51 of the faces that do not flip; without the normals
+    nothing flips, the ear's 0.83 being more than any flip gives."""
+    theta = np.pi / 3 * np.arange(6)
+    uv = np.r_[np.column_stack([np.cos(theta), np.sin(theta)]), [[0.0, 0.0]]]
+    L = np.array([[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2], [0.6, 0.6]], dtype=float)
+    X = np.column_stack([L, np.zeros(7)])
+    F = np.array([[0, 1, 6], [1, 2, 6], [2, 3, 4], [2, 4, 6], [4, 5, 6], [5, 0, 6]])
+    up = np.tile([0.0, 0.0, 1.0], (7, 1))
+    q = surface_quality(X, F, up)
+    assert np.all(signed_doublearea(uv, F) > 0) and np.flatnonzero(q < 0).tolist() == [2]
+    np.testing.assert_allclose(q, radius_ratio(X, F) * [1, 1, -1, 1, 1, 1])
+    G, flips = flip_for_surface_quality(uv, F, X, np.ones(7, dtype=bool), up=up)
+    assert flips == 3 and np.all(signed_doublearea(uv, G) > 0) and np.count_nonzero(G == 3) == 4
+    assert surface_quality(X, G, up).min() >= np.delete(q, 2).min() - 1e-12
+    same, none = flip_for_surface_quality(uv, F, X, np.ones(7, dtype=bool))
     assert none == 0 and np.array_equal(same, F)
 
 

@@ -158,7 +158,7 @@ def test_remesh_cli_says_when_landmarks_were_drawn_again(tmp_path, capsys):
     assert ", drawn 3 times (the first draws left faces below 0.3)" in text
     assert (
         "\ncut into 5 pieces where the disk map crowds the boundary, remeshed each on its own map and welded back "
-        "(1,284, 61, 197, 62, 173 faces; the numbers below are the largest's)\n"
+        "(1,280, 61, 197, 62, 173 faces; the numbers below are the largest's)\n"
     ) in text
 
 

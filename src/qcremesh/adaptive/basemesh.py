@@ -6,7 +6,7 @@ import numpy as np
 from scipy.spatial import Delaunay
 
 from ..geometry.operators import signed_doublearea
-from ..geometry.quality import radius_ratio
+from ..geometry.quality import corner_normals_up, radius_ratio, surface_side_quality
 from ..geometry.triangulation import delaunay_flips, flip_edges, insert_points
 from ..mesh.subdivide import upsample
 from ..mesh.topology import boundary_edges
@@ -14,6 +14,7 @@ from ..mesh.topology import boundary_edges
 __all__ = [
     "delaunay_disk_mesh",
     "flip_for_surface_quality",
+    "surface_quality",
     "flip_for_valence",
     "subdivide_disk_mesh",
     "hexagonal_disk_points",
@@ -123,7 +124,7 @@ def _include_every_point(uv, F, b):
     return uv[kept], renumber[F]
 
 
-def flip_for_surface_quality(uv, F, X, flippable, rounds=50):
+def flip_for_surface_quality(uv, F, X, flippable, rounds=50, up=None):
     """Flip interior edges of a disk mesh where that raises the smaller radius ratio of
     their two faces on the surface, keeping the mesh an embedding of the disk.
 
@@ -132,8 +133,9 @@ def flip_for_surface_quality(uv, F, X, flippable, rounds=50):
     stretched on the surface (a strip whose ends the map crowds, a surface cut along
     slits). An edge (a, b) with faces (a, b, c) and (b, a, d) becomes (c, d) when
     min(q(a, d, c), q(d, b, c)) > min(q(a, b, c), q(b, a, d)), q measured at the surface
-    positions ``X``, and both new faces are counter-clockwise in the disk. Each round
-    flips, best gain first, edges that share no face, until none gains.
+    positions ``X`` (negated where a face is turned over on the surface, with ``up``),
+    and both new faces are counter-clockwise in the disk. Each round flips, best gain
+    first, edges that share no face, until none gains.
 
     Parameters
     ----------
@@ -145,6 +147,11 @@ def flip_for_surface_quality(uv, F, X, flippable, rounds=50):
     flippable : (n,) bool
         An edge may flip only when a corner of its two faces is flippable.
     rounds : int
+    up : (n, 3) float, optional
+        Unit normals of the surface at the vertices' points: a face whose normal makes
+        more than 90 degrees with their sum is turned over, and its radius ratio counts
+        negated (:func:`qcremesh.geometry.quality.surface_side_quality`; not judged where
+        the three normals disagree, :func:`~qcremesh.geometry.quality.corner_normals_up`).
 
     Returns
     -------
@@ -154,7 +161,7 @@ def flip_for_surface_quality(uv, F, X, flippable, rounds=50):
     """
 
     def gain(F, f1, f2, a, b, c, d):
-        old, new, embedded = _flip_quality(uv, X, F, f1, f2, a, b, c, d)
+        old, new, embedded = _flip_quality(uv, X, F, f1, f2, a, b, c, d, up)
         gain = new - old
         ok = (flippable[a] | flippable[b] | flippable[c] | flippable[d]) & (gain > 1e-6) & embedded
         return np.where(ok, gain, -1.0)
@@ -162,14 +169,24 @@ def flip_for_surface_quality(uv, F, X, flippable, rounds=50):
     return flip_edges(F, gain, rounds)
 
 
-def _flip_quality(uv, X, F, f1, f2, a, b, c, d):
+def surface_quality(X, F, up=None):
+    """Radius ratio of faces ``F`` on a surface at the vertices' points ``X``, (m,),
+    negated where a face is turned over against the unit normals ``up`` (n, 3) of the
+    surface at its corners (see :func:`flip_for_surface_quality`)."""
+    if up is None:
+        return radius_ratio(X, F)
+    return surface_side_quality(X, F, corner_normals_up(np.take(up, F, axis=0)))
+
+
+def _flip_quality(uv, X, F, f1, f2, a, b, c, d, up=None):
     """For flips of edges (a, b) with faces f1 = (a, b, c), f2 = (b, a, d) to (c, d): the
-    smaller radius ratio on the surface of the two faces before and after, and whether
-    both new faces are counter-clockwise in the disk; (e,) each."""
+    smaller radius ratio on the surface of the two faces before and after (negated where
+    turned over, with ``up``: :func:`surface_quality`), and whether both new faces are
+    counter-clockwise in the disk; (e,) each."""
     new1, new2 = np.column_stack([a, d, c]), np.column_stack([d, b, c])
-    q = radius_ratio(X, F)
+    q = surface_quality(X, F, up)
     embedded = (signed_doublearea(uv, new1) > 0) & (signed_doublearea(uv, new2) > 0)
-    return np.minimum(q[f1], q[f2]), np.minimum(radius_ratio(X, new1), radius_ratio(X, new2)), embedded
+    return np.minimum(q[f1], q[f2]), np.minimum(surface_quality(X, new1, up), surface_quality(X, new2, up)), embedded
 
 
 def flip_for_valence(uv, F, X, wanted, rounds=20, bound=None, monotone=True):

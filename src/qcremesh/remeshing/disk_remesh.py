@@ -38,12 +38,14 @@ from ..adaptive.basemesh import (
     flip_for_valence,
     hexagonal_disk_points,
     subdivide_disk_mesh,
+    surface_quality,
 )
 from ..adaptive.landmarks import boundary_angles, boundary_landmarks, cvt_landmarks, interpolate_on_boundary
 from ..adaptive.samples import area_samples
 from ..beltrami.coefficient import coherent_mu
 from ..beltrami.teichmuller import teichmuller_map
-from ..geometry.operators import doublearea, vertex_areas
+from ..geometry.operators import doublearea, vertex_areas, vertex_normals
+from ..geometry.vectors import norm
 from ..geometry.quality import corner_radius_ratio_bound, radius_ratio, triangle_angles
 from ..mesh.subdivide import upsample
 from ..mesh.topology import boundary_edges, boundary_loop, face_edge_lengths
@@ -309,8 +311,9 @@ def _adaptive_mesh(
     valence_flips = relax > 0 and method != "uniform"
     if stretch is not None or valence_flips:
         on_circle = np.arange(len(base_uv)) < len(theta)
-        fields = [V] + ([stretch] if stretch is not None else [])
-        base_X, *base_stretch = project_to_surface(dm.uv, F, dm.boundary, base_uv, on_circle, fields)
+        fields = [V, vertex_normals(V, F)] + ([stretch] if stretch is not None else [])
+        base_X, base_up, *base_stretch = project_to_surface(dm.uv, F, dm.boundary, base_uv, on_circle, fields)
+        base_up /= np.maximum(norm(base_up), 1e-300)[:, None]
     if stretch is not None:
         base_F, flips = flip_for_surface_quality(base_uv, base_F, base_X, base_stretch[0] > NONCONFORMAL_MU)
         run.update(base_flips=flips)
@@ -325,6 +328,18 @@ def _adaptive_mesh(
         bound[: len(theta)][plan.corner] = plan.corner_bound
         base_F, flips = flip_for_valence(base_uv, base_F, base_X, wanted, bound=bound)
         run.update(base_valence_flips=flips)
+        turned = (surface_quality(base_X, base_F, base_up) < 0) & on_circle[base_F].all(1)
+        if turned.any() and not (np.ndim(fixed_boundary) == 0 and fixed_boundary):
+            # A face turned over on the surface though counter-clockwise in the disk:
+            # three boundary landmarks around a reflex corner (of a piece's boundary
+            # held along a crowded cut's path that steps across an input edge, say),
+            # which no relaxation mends; flipped away. Not on a surface cut open: there
+            # such an ear on one side of the cut and one on the other are the same face
+            # turned both ways, which the weld drops together.
+            near = np.zeros(len(base_uv), dtype=bool)
+            near[base_F[turned].ravel()] = True
+            base_F, flips = flip_for_surface_quality(base_uv, base_F, base_X, near, up=base_up)
+            run.update(base_turned_flips=flips)
     run.update(base_vertices=len(base_uv), base_faces=len(base_F))
 
     clock.start("subdivide")
