@@ -45,8 +45,8 @@ from ..adaptive.samples import area_samples
 from ..beltrami.coefficient import coherent_mu
 from ..beltrami.teichmuller import teichmuller_map
 from ..geometry.operators import doublearea, vertex_areas, vertex_normals
-from ..geometry.vectors import norm
 from ..geometry.quality import corner_radius_ratio_bound, radius_ratio, triangle_angles
+from ..geometry.vectors import norm
 from ..mesh.subdivide import upsample
 from ..mesh.topology import boundary_edges, boundary_loop, face_edge_lengths
 from .min_quality import QUALITY_FLOOR
