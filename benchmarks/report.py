@@ -238,6 +238,7 @@ REMESH_HEADER = [
     "manifold",
     "loops",
     "self-intersecting faces (input's)",
+    "turned-over faces (input's)",
     "peak MB",
 ]
 
@@ -260,6 +261,7 @@ def _remesh_cells(r):
         "yes" if q["manifold"] else "no",
         q["boundary_loops"],
         f"{q['self_intersecting_faces']:,} ({q['reference_self_intersecting_faces']:,})",
+        f"{q['turned_over_faces']:,} ({q['reference_turned_over_faces']:,})",
         f"{r['peak_rss_mb']:.0f}",
     ]
 
@@ -275,7 +277,10 @@ def _remesh_section(results):
         "less on the face count), the Hausdorff distance between the boundaries (n/a when only one of the two "
         "meshes has a boundary), manifoldness and boundary loops of the output, and its faces that "
         "meet another where the connectivity does not join them (self-intersections, those of the "
-        "input beside them: a remesh that follows a surface through itself does too). Tools that take "
+        "input beside them: a remesh that follows a surface through itself does too), and its faces "
+        "turned over against the input (their normals more than 90 degrees from those of the input faces "
+        "nearest their corners; the input's against itself beside them, which counts where it passes "
+        "through itself). Tools that take "
         "an edge length are calibrated to the face count, starting from the length of the "
         "previous run where there is one (the run with the final length is the first timed "
         "run).\n",
@@ -611,6 +616,15 @@ def _remesh_targets(results):
             + "; ".join(sorted(reasons))
             + ")"
         ]
+    turned = {
+        f"{name} at {faces:,} faces": r["quality"]["turned_over_faces"]
+        for (name, faces), r in qc.items()
+        if r["quality"]["turned_over_faces"] > r["quality"]["reference_turned_over_faces"]
+    }
+    lines = [
+        f"- normals consistent with the input's (no face turned over against it beyond the input's own) on "
+        f"the {len(qc)} remeshes of disk meshes: {_verdict(not turned)}" + (f" ({turned})" if turned else "")
+    ]
     table = []
     for (name, faces), r in qc.items():
         others = [
@@ -639,7 +653,7 @@ def _remesh_targets(results):
                 f"{_num(r['time']['median'])} / {_num(fastest)}",
             ]
         )
-    return [
+    return lines + [
         "\nqcremesh against the best of the other remeshers on each disk mesh (qcremesh / best "
         "other):\n",
         _table(

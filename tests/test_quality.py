@@ -192,3 +192,21 @@ def test_surface_side_quality_negates_faces_turned_over():
     tilted = [[np.sin(np.radians(a)), 0.0, np.cos(np.radians(a))] for a in (80, 120)]
     up = corner_normals_up([[[0, 0, 1], [0, 0, 1], tilted[0]], [[0, 0, 1], [0, 0, 1], tilted[1]]])
     assert up[0, 2] > 2 and np.all(up[1] == 0)
+
+
+def test_mesh_quality_counts_faces_turned_over_against_the_reference():
+    """A grid whose vertex at (0.5, 0.5) is moved across its neighbour (0.6, 0.5), in its
+    plane: the two faces of its star that now lie beyond that neighbour are turned over,
+    folded flat onto the others; the grid against itself has none, and with every face
+    reversed all are."""
+    uv, F = regular_grid(11)
+    V = np.column_stack([uv, np.zeros(len(uv))])
+    moved = V.copy()
+    centre = np.flatnonzero(np.all(np.isclose(uv, 0.5), axis=1))[0]
+    moved[centre, 0] = 0.65
+    turned = np.count_nonzero(
+        np.cross(moved[F[:, 1]] - moved[F[:, 0]], moved[F[:, 2]] - moved[F[:, 0]])[:, 2] < 0
+    )
+    r = mesh_quality(moved, F, reference=(V, F))
+    assert turned == 2 and r["turned_over_faces"] == 2 and r["reference_turned_over_faces"] == 0
+    assert mesh_quality(V, F[:, ::-1], reference=(V, F))["turned_over_faces"] == len(F)

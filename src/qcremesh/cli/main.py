@@ -380,6 +380,10 @@ def _quality_lines(q):
     if "hausdorff" in q:
         boundary = q["boundary_hausdorff"]
         lines.append(
+            f"faces turned over against the reference {q['turned_over_faces']} "
+            f"(the reference against itself: {q['reference_turned_over_faces']})"
+        )
+        lines.append(
             f"distance to the reference (of its bounding-box diagonal): Hausdorff {100 * q['hausdorff']:.3f} % "
             + (f"({q['hausdorff_edges']:.2f} mean edge lengths)" if q["hausdorff_edges"] is not None else "")
             + f", mean {100 * q['mean_distance']:.4f} %, "

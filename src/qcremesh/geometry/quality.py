@@ -19,7 +19,7 @@ from ..mesh.topology import (
     nonmanifold_vertices,
 )
 from ..mesh.validate import as_mesh_arrays
-from .distance import hausdorff_distance, polyline_hausdorff_distance
+from .distance import hausdorff_distance, point_mesh_distance, polyline_hausdorff_distance
 from .intersections import self_intersections
 from .vectors import cross as cross_product
 from .vectors import norm
@@ -220,7 +220,14 @@ def mesh_quality(V, F, reference=None):
         (:func:`~qcremesh.geometry.distance.polyline_hausdorff_distance`): 0.0 when
         neither surface has a boundary, None when only one of them has; and
         ``reference_self_intersecting_faces``, those of the reference (a remesh that
-        follows a surface through itself does too). ``hausdorff_edges``: the Hausdorff
+        follows a surface through itself does too); ``turned_over_faces``, the faces
+        whose normal makes more than 90 degrees with the normals of the reference faces
+        nearest their three corners (:func:`surface_side_quality`; not counted where
+        those disagree, across a fold: :func:`corner_normals_up`), which a face folded
+        flat onto its neighbours is without passing through any, and
+        ``reference_turned_over_faces``, the reference's against itself (where it passes
+        through itself, the nearest face can be on the other sheet: camel_b.obj has 7).
+        ``hausdorff_edges``: the Hausdorff
         distance in mean edge lengths of the mesh, which does not depend on its
         resolution as much (a mesh of edge h that follows a smooth surface stays within
         about h^2 times its curvature; qcremesh's outputs in the committed benchmark
@@ -268,6 +275,8 @@ def mesh_quality(V, F, reference=None):
             mean_distance=mean / diag,
             boundary_hausdorff=boundary,
             reference_self_intersecting_faces=_self_intersecting_faces(V0, F0),
+            turned_over_faces=_turned_over_faces(V, F, V0, F0),
+            reference_turned_over_faces=_turned_over_faces(V0, F0, V0, F0),
             hausdorff_edges=hausdorff / edge if edge > 0 else None,
         )
     return report
@@ -275,3 +284,15 @@ def mesh_quality(V, F, reference=None):
 
 def _self_intersecting_faces(V, F):
     return len(np.unique(self_intersections(V, F)))
+
+
+def _turned_over_faces(V, F, V0, F0):
+    """The faces of (V, F) turned over against the reference (V0, F0): see
+    :func:`mesh_quality`."""
+    X, X0 = (np.column_stack([W, np.zeros(len(W))]) if W.shape[1] == 2 else W for W in (V, V0))
+    normals = cross_product(X0[F0[:, 1]] - X0[F0[:, 0]], X0[F0[:, 2]] - X0[F0[:, 0]])
+    normals /= np.maximum(norm(normals), 1e-300)[:, None]
+    used = np.unique(F)
+    nearest = np.zeros(len(X), dtype=np.int64)
+    nearest[used] = point_mesh_distance(X[used], X0, F0)[1]
+    return int(np.count_nonzero(surface_side_quality(X, F, corner_normals_up(normals[nearest][F])) < 0))
