@@ -5,6 +5,7 @@ from qcremesh.geometry.operators import (
     cotmatrix,
     doublearea,
     face_gradients,
+    face_normals,
     signed_doublearea,
     uniform_laplacian,
     vertex_areas,
@@ -84,3 +85,11 @@ def test_vertex_normals_of_a_plane_and_a_sphere():
     np.testing.assert_allclose(np.linalg.norm(N, axis=1), 1)
     assert (N * V).sum(1).min() > 0.95  # about radial, outwards
     np.testing.assert_array_equal(vertex_normals(V, F, vertex_face_incidence(F, len(V))), N)
+
+
+def test_face_normals_are_unit_and_follow_the_corner_order():
+    """A counter-clockwise triangle in the plane z = 0 has the normal +z, reversed -z, and
+    a face of no area the zero vector."""
+    V = np.array([[0, 0, 0], [2, 0, 0], [0, 3, 0], [4, 0, 0]], dtype=float)
+    F = np.array([[0, 1, 2], [0, 2, 1], [0, 1, 3]])
+    np.testing.assert_array_equal(face_normals(V, F), [[0, 0, 1], [0, 0, -1], [0, 0, 0]])

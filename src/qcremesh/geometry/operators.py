@@ -13,6 +13,7 @@ __all__ = [
     "doublearea",
     "signed_doublearea",
     "vertex_areas",
+    "face_normals",
     "vertex_normals",
     "face_gradients",
     "cotmatrix",
@@ -51,6 +52,13 @@ def vertex_areas(V, F, n=None):
     """
     n = len(V) if n is None else n
     return np.bincount(np.asarray(F).ravel(), weights=np.repeat(doublearea(V, F) / 6, 3), minlength=n)
+
+
+def face_normals(V, F):
+    """Unit normals of the faces, (m, 3): (v1 - v0) x (v2 - v0), normalized (zero for a
+    face of no area)."""
+    normals = cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    return normals / np.maximum(norm(normals), 1e-300)[:, None]
 
 
 def vertex_normals(V, F, incidence=None):

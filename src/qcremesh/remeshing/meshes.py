@@ -11,8 +11,8 @@ from typing import NamedTuple
 import numpy as np
 from scipy import sparse
 
+from ..geometry.operators import face_normals
 from ..mesh.topology import adjacency_matrix, boundary_loop, edges, vertex_face_incidence
-from .stars import input_face_normals
 
 __all__ = ["InputSurface", "OutputMesh", "input_surface", "output_mesh"]
 
@@ -42,7 +42,7 @@ class InputSurface(NamedTuple):
 def input_surface(V, F, disk_uv):
     """The :class:`InputSurface` of the mesh (V (n, 3), F (m, 3)) with disk positions
     ``disk_uv`` (n, 2)."""
-    return InputSurface(V, F, disk_uv, vertex_face_incidence(F, len(V)), input_face_normals(V, F))
+    return InputSurface(V, F, disk_uv, vertex_face_incidence(F, len(V)), face_normals(V, F))
 
 
 class OutputMesh(NamedTuple):

@@ -55,6 +55,7 @@ import numpy as np
 
 from ..geometry.distance import point_mesh_distance
 from ..geometry.locate import interpolate_barycentric
+from ..geometry.operators import face_normals
 from ..geometry.quality import radius_ratio, surface_side_quality
 from ..mesh.cut import points_on_segments
 from ..mesh.topology import adjacency_matrix, boundary_edges, edges, vertex_face_incidence
@@ -63,7 +64,7 @@ from .guard import DistanceGuard
 from .onsurface import closest_point_near
 from .project import in_type
 from .smoothing import edge_lengths, smooth_targets
-from .stars import input_face_normals, input_up
+from .stars import input_up
 
 __all__ = ["smooth_seams"]
 
@@ -161,7 +162,7 @@ def smooth_seams(
     face = np.full(k, -1, dtype=np.int64)
     face[corners] = point_mesh_distance(X[corners], V, F)[1]
     Fa = Fo[around]
-    input_normals = input_face_normals(V, F)
+    input_normals = face_normals(V, F)
     targets_of = smooth_targets_kernel() or smooth_targets
     bary = np.zeros((k, 3))
     moved = np.zeros(k, dtype=bool)

@@ -18,7 +18,6 @@ __all__ = [
     "StarQuality",
     "boundary_candidates",
     "boundary_deviation",
-    "input_face_normals",
     "input_up",
     "mean_edge_length",
     "star_radius_ratios",
@@ -27,12 +26,6 @@ __all__ = [
 
 # Directions of the tangent plane the candidates are offset in.
 DIRECTIONS = 8
-
-
-def input_face_normals(V, F):
-    """Unit normals of the input faces, (m, 3)."""
-    normals = cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
-    return normals / np.maximum(norm(normals), 1e-300)[:, None]
 
 
 def input_up(T, face, input_normals):
