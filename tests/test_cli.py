@@ -331,9 +331,10 @@ def test_remesh_cli_is_deterministic(tmp_path):
 
 def test_remesh_cli_errors(tmp_path, capsys):
     out = tmp_path / "x.obj"
-    assert main(["remesh", str(DATA / "featuretype.STL"), "-o", str(out)]) == 1
+    assert main(["remesh", str(DATA / "featuretype.STL"), "-o", str(out), "--no-weld-seams"]) == 1
     err = capsys.readouterr().err.strip()
-    # a CAD part saved face by face: cracks, boundary loops whose vertices coincide
+    # a CAD part saved face by face: cracks, boundary loops whose vertices coincide (merged
+    # by default)
     assert err == (
         f"qcremesh: error: {DATA / 'featuretype.STL'}: the remesh of the surface cut open does not weld back "
         "into its topology (576 of its 576 boundary vertices lie at the same points as others: cracks between "
@@ -469,13 +470,15 @@ def test_remesh_cli_points_at_creases_where_the_output_departs(tmp_path, capsys)
 
 
 def test_remesh_cli_points_at_weld_seams_and_welds_them(tmp_path, capsys):
-    """A sphere written with its seams twice: remeshed as the disk it is, with a note that
-    counts its boundary vertices at the same points as others; with --weld-seams, closed,
-    and the merge said among the repairs."""
+    """A sphere written with its seams twice: with --no-weld-seams, remeshed as the disk
+    it is, with a note that counts its boundary vertices at the same points as others;
+    with --weld-seams, closed, and the merge said among the repairs; by default too, its
+    boundary being seams only and the file without per-vertex data, with a word on
+    --no-weld-seams."""
     path = tmp_path / "sphere.obj"
     write_mesh(path, *uv_sphere(32, 16))
     out = tmp_path / "r.obj"
-    assert main(["remesh", str(path), "-o", str(out), "--faces", "1000"]) == 0
+    assert main(["remesh", str(path), "-o", str(out), "--faces", "1000", "--no-weld-seams"]) == 0
     captured = capsys.readouterr()
     assert "boundary loops 1," in captured.out
     assert captured.err.strip() == (
@@ -489,6 +492,14 @@ def test_remesh_cli_points_at_weld_seams_and_welds_them(tmp_path, capsys):
     assert captured.err == ""
     V, F = read_mesh(out)
     assert not len(boundary_edges(F))
+    assert main(["remesh", str(path), "-o", str(out), "--faces", "1000"]) == 0
+    captured = capsys.readouterr()
+    assert "boundary loops 0, Euler characteristic 2," in captured.out
+    assert (
+        "79 boundary vertices at the same points as others merged (seams: by default, the whole boundary being "
+        "seams or no two faces sharing a vertex; --no-weld-seams keeps them)" in captured.out
+    )
+    assert captured.err == ""
 
 
 def test_remesh_cli_keeps_creases(tmp_path, capsys):

@@ -22,6 +22,7 @@ from qcremesh.geometry.operators import doublearea
 from qcremesh.geometry.quality import mesh_quality, radius_ratio
 from qcremesh.mesh.io import read_mesh
 from qcremesh.mesh.cut import (
+    boundary_is_seams,
     chord_across,
     cut_along_edges,
     cut_to_disk,
@@ -186,11 +187,12 @@ def test_weld_cut_tells_twins_from_other_vertices_at_the_same_point_by_their_lab
 
 
 def test_torus_split_along_its_seam_remeshes_into_a_tube():
-    """The tube of the test above remeshed at its face count and half of it: it did not
-    weld (WeldError), and now keeps its topology, the two rims at the same points."""
+    """The tube of the test above remeshed, its seams kept (weld_seams=False), at its face
+    count and half of it: it did not weld (WeldError), and now keeps its topology, the two
+    rims at the same points."""
     V, F = torus_mesh(48, seam=True)
     for faces in (len(F), len(F) // 2):
-        r = remesh(V, F, faces)
+        r = remesh(V, F, faces, weld_seams=False)
         assert euler_characteristic(r.F) == 0 and len(boundary_loops(r.F)) == 2
         assert not len(nonmanifold_edges(r.F)) and not len(nonmanifold_vertices(r.F))
         assert abs(len(r.F) - faces) <= 0.05 * faces
@@ -224,12 +226,40 @@ def test_weld_seams_merges_the_vertices_of_seams_written_twice():
     np.testing.assert_array_equal(kept, np.arange(len(P)))
 
 
+def test_boundary_is_seams_where_every_boundary_vertex_has_a_twin():
+    """The torus and the sphere written with their seams twice: every boundary vertex at
+    the point of another. The sphere with the faces around a pole left out: a hole whose
+    rim is boundary of its own. A disk, and a closed sphere: no seams."""
+    assert boundary_is_seams(*torus_mesh(seam=True))
+    V, F = uv_sphere(24, 12)
+    assert boundary_is_seams(V, F)
+    assert not boundary_is_seams(V, F[~np.isin(F, np.arange(0, len(V), 13)).any(1)])
+    uv, D = grid_disk(6)
+    assert not boundary_is_seams(np.column_stack([uv, np.zeros(len(uv))]), D)
+    assert not boundary_is_seams(*sphere_mesh())
+
+
+def test_remesh_welds_a_boundary_of_seams_only_when_nothing_rides_on_the_seams():
+    """By default the torus written with its seam twice is remeshed closed (its boundary
+    is seams only, as an STL file's cracks are); with per-vertex data, which can jump
+    across a seam, or with weld_seams=False, as the tube it is written as."""
+    V, F = torus_mesh(48, seam=True)
+    r = remesh(V, F, len(F))
+    assert r.stats["welded_seams_by_default"] and r.stats["welded_seam_vertices"] == 24
+    assert not len(boundary_edges(r.F)) and euler_characteristic(r.F) == 0
+    q = mesh_quality(r.V, r.F, reference=(V, F))
+    assert q["q_mean"] > 0.97 and q["q_min"] > 0.5 and q["hausdorff"] < 0.01
+    for options in ({"data": {"angle": np.arctan2(V[:, 1], V[:, 0])}}, {"weld_seams": False}):
+        r = remesh(V, F, len(F), **options)
+        assert "welded_seam_vertices" not in r.stats and len(boundary_loops(r.F)) == 2
+
+
 def test_remesh_with_weld_seams_remeshes_the_surface_whole():
-    """Without weld_seams, a sphere written with its seams twice is remeshed as the disk
-    it is, the seams boundary; with it, as the closed sphere, its per-vertex data (the
-    first copy's) carried over."""
+    """With weld_seams=False, a sphere written with its seams twice is remeshed as the
+    disk it is, the seams boundary; with weld_seams=True, as the closed sphere, its
+    per-vertex data (the first copy's) carried over."""
     V, F = uv_sphere(32, 16)
-    r = remesh(V, F, 1000)
+    r = remesh(V, F, 1000, weld_seams=False)
     assert len(boundary_loops(r.F)) == 1 and "welded_seam_vertices" not in r.stats
     r = remesh(V, F, 1000, weld_seams=True, data={"height": V[:, 2]})
     assert r.stats["welded_seam_vertices"] == 17 + 2 * 32 - 2

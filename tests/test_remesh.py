@@ -641,23 +641,30 @@ def test_a_planar_mesh_of_two_coordinates_gets_z_0():
         remesh(np.zeros((64, 4)), F, 300)
 
 
-def test_a_triangle_soup_is_refused():
-    """Also where its edges differ in length (which the cutting of long boundary edges
-    took for a point set's hull, every edge of a soup being a boundary edge: thousands
-    of pieces) or a face has zero area (which the repairs would merge first)."""
+def test_a_triangle_soup_is_welded_or_refused():
+    """A soup (every face its own corners) is welded first by default and remeshed as the
+    disk it is; with weld_seams=False it is refused, also where its edges differ in length
+    (which the cutting of long boundary edges took for a point set's hull, every edge of a
+    soup being a boundary edge: thousands of pieces) or a face has zero area (which the
+    repairs would merge first)."""
     uv, F = grid_disk(5)
     V = np.column_stack([uv, np.zeros(len(uv))])[F].reshape(-1, 3)
     with pytest.raises(TopologyError, match=r"connected components, a disk has 1 \(no two faces share a vertex"):
-        remesh(V, np.arange(len(V)).reshape(-1, 3))
+        remesh(V, np.arange(len(V)).reshape(-1, 3), weld_seams=False)
     points = np.random.default_rng(0).random((300, 2))
     G = Delaunay(points).simplices
     soup = np.column_stack([points, np.zeros(len(points))])[G].reshape(-1, 3)
     message = rf"^{len(G)} connected components, a disk has 1 \(no two faces share a vertex: weld the coincident vertices first\)$"
     with pytest.raises(TopologyError, match=message):
-        remesh(soup, np.arange(len(soup)).reshape(-1, 3), 500)
+        remesh(soup, np.arange(len(soup)).reshape(-1, 3), 500, weld_seams=False)
+    for points, faces in ((V, len(F)), (soup, 500)):
+        r = remesh(points, np.arange(len(points)).reshape(-1, 3), faces)
+        assert r.stats["welded_seams_by_default"] and len(boundary_loops(r.F)) == 1
+        assert euler_characteristic(r.F) == 1 and abs(len(r.F) - faces) <= 0.05 * faces
+        assert radius_ratio(r.V, r.F).min() > 0.5
     soup[1] = soup[0]  # a needle
     with pytest.raises(TopologyError, match=message):
-        remesh(soup, np.arange(len(soup)).reshape(-1, 3), 500)
+        remesh(soup, np.arange(len(soup)).reshape(-1, 3), 500, weld_seams=False)
 
 
 def test_a_boundary_spike_far_off_the_surface_remeshes_into_a_disk(fran):

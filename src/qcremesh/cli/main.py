@@ -287,9 +287,10 @@ def _add_remesh_options(parser):
     )
     parser.add_argument(
         "--weld-seams",
-        action="store_true",
+        action=argparse.BooleanOptionalAction,
         help="first merge the boundary vertices at the same points as others: a surface written with its seams "
-        "split (textured meshes often are), whose seams stay boundary without it",
+        "split (textured meshes often are), whose seams stay boundary without it (default: merged where every "
+        "boundary vertex is one and the input has no per-vertex data, as STL files of CAD parts)",
     )
 
 
@@ -466,7 +467,13 @@ def _remesh(args, out):
     if "split_vertices" in st:
         mended.append(f"{st['split_vertices']} vertices where sheets touch split, one per sheet")
     if "welded_seam_vertices" in st:
-        mended.append(f"{st['welded_seam_vertices']} boundary vertices at the same points as others merged (seams)")
+        whole = (
+            ": by default, the whole boundary being seams or no two faces sharing a vertex; --no-weld-seams keeps them"
+            if st.get("welded_seams_by_default") else ""
+        )
+        mended.append(
+            f"{st['welded_seam_vertices']} boundary vertices at the same points as others merged (seams{whole})"
+        )
     if "reoriented_faces" in st:
         mended.append(f"{st['reoriented_faces']} faces turned against their neighbours reversed")
     if "repaired_needles" in st:
@@ -569,7 +576,7 @@ def _remesh(args, out):
     _warn_folded(st["param_folded_faces"])
     if _warn_departure(quality) and args.creases is None:
         _hint_creases(V, surface)
-    if not args.weld_seams:
+    if "welded_seam_vertices" not in st:
         _hint_seams(V, F)
     if st["param_narrowest_share"] > CROWDED_BOUNDARY_SHARE:
         print(

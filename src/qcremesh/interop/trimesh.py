@@ -161,7 +161,7 @@ def remesh_trimesh(mesh, faces=None, *, weld=True, **options):
                 f"across them and are left out (weld=False keeps the seams, as boundaries, and {names})",
                 stacklevel=2,
             )
-    result = remesh(V, F, faces, data=data, **options)
+    result = remesh(V, F, faces, data=data, **({} if weld else {"weld_seams": False}) | options)
     material = getattr(mesh.visual, "material", None) if UV in data else None
     out = to_trimesh(result.V, result.F, result.data, material=material)
     out.metadata["qcremesh"] = dict(result.stats)

@@ -24,6 +24,7 @@ from .topology import (
 
 __all__ = [
     "TWIN_LABEL_TOLERANCE",
+    "boundary_is_seams",
     "cut_along_edges",
     "chord_across",
     "coincident_boundary_pairs",
@@ -535,6 +536,15 @@ def coincident_boundary_pairs(V, F):
     """The pairs of boundary vertices of the mesh (V, F) at the same point
     (:func:`coincident_pairs`): cracks, seams written twice, slits, (p, 2) int."""
     return coincident_pairs(V, unique_integers(boundary_edges(F)))
+
+
+def boundary_is_seams(V, F):
+    """Whether the mesh (V, F) has a boundary and every boundary vertex lies at the same
+    point as another (:func:`coincident_boundary_pairs`): a closed surface written with
+    cracks or seams split (an STL file's faces written one by one and merged only where
+    their corners agree), whose boundary is no border of the surface."""
+    border = unique_integers(boundary_edges(F))
+    return bool(len(border)) and len(np.unique(coincident_pairs(V, border))) == len(border)
 
 
 def weld_seams(V, F):

@@ -25,6 +25,7 @@ __all__ = [
     "check_disk",
     "check_not_soup",
     "foldover_edges",
+    "is_triangle_soup",
 ]
 
 
@@ -249,12 +250,17 @@ def check_disk(V, F):
     return loops[0]
 
 
-def check_not_soup(F):
-    """Raise TopologyError for a triangle soup: more than one face, and no two sharing a
-    vertex (an export that gave every face its own corners, which the remesh would take
-    for as many pieces)."""
+def is_triangle_soup(F):
+    """Whether the faces F (m, 3) are a triangle soup: more than one face, and no two
+    sharing a vertex (an export that gave every face its own corners)."""
     F = np.asarray(F)
-    if len(F) > 1 and np.bincount(F.ravel()).max() == 1:
+    return len(F) > 1 and np.bincount(F.ravel()).max() == 1
+
+
+def check_not_soup(F):
+    """Raise TopologyError for a triangle soup (:func:`is_triangle_soup`), which the
+    remesh would take for as many pieces as it has faces."""
+    if is_triangle_soup(F):
         raise TopologyError(
             f"{len(F)} connected components, a disk has 1 (no two faces share a vertex: weld the coincident "
             "vertices first)"

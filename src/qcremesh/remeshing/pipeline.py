@@ -47,7 +47,7 @@ from ..mesh.cut import (
     weld_along_paths,
     weld_cut,
 )
-from ..mesh.cut import weld_seams as cut_weld_seams
+from ..mesh.cut import boundary_is_seams, weld_seams as cut_weld_seams
 from ..mesh.topology import (
     boundary_edges,
     boundary_loop,
@@ -66,6 +66,7 @@ from ..mesh.validate import (
     UnreferencedVertexError,
     as_mesh_arrays,
     check_not_soup,
+    is_triangle_soup,
 )
 from ..param.charts import chart_borders, disk_charts
 from ..param.disk import disk_conformal_map
@@ -789,7 +790,7 @@ def remesh(
     boundary_edge_length=None,
     cut_crowded=True,
     creases=None,
-    weld_seams=False,
+    weld_seams=None,
     data=None,
     progress=None,
     edge_length=None,
@@ -952,8 +953,8 @@ def remesh(
         would leave a piece too small, a piece is not a disk or is refused, or the pieces
         did not weld back, and the disk was remeshed whole). Needs ``relax`` and a method
         other than ``"uniform"``. None (the default): not looked for.
-    weld_seams : bool
-        First merge the boundary vertices at the same points as others
+    weld_seams : bool or None
+        True: first merge the boundary vertices at the same points as others
         (:func:`qcremesh.mesh.cut.weld_seams`): a surface written with its seams split
         (a textured mesh, one vertex per texture coordinate), whose seams are otherwise
         boundary, in the output too, is remeshed whole
@@ -961,7 +962,13 @@ def remesh(
         sizing of a group are those of its first vertex, so texture coordinates, which
         jump across a seam, come out wrong on the faces beside it; the corners
         renumbered; where boundaries meet at points, the vertex where sheets then touch
-        is split as the input's own are).
+        is split as the input's own are). False: the seams stay boundary. None (the
+        default): merged where the whole boundary is seams
+        (:func:`qcremesh.mesh.cut.boundary_is_seams`: a CAD part written face by face,
+        as STL files are) or the mesh is a triangle soup
+        (:func:`qcremesh.mesh.validate.is_triangle_soup`), and no ``data`` and no
+        ``fixed_boundary`` are given, which the seams could be there for
+        (``stats["welded_seams_by_default"]``).
     data : dict of str to (n,) or (n, d) array, optional
         Per-vertex attributes (normals, colours, scalars, UVs) to carry to the output.
     progress : callable, optional
@@ -1024,6 +1031,12 @@ def remesh(
         levels = 0
     levels = levels_above_min_base(faces, levels)
     stats = {"levels": levels}
+    if weld_seams is None:
+        weld_seams = bool(
+            not data and seams is None and not fixed_boundary and (boundary_is_seams(V, F) or is_triangle_soup(F))
+        )
+        if weld_seams:
+            stats["welded_seams_by_default"] = True
     if weld_seams:
         if seams is not None:
             raise ValueError("weld_seams takes no fixed_boundary per vertex")
