@@ -125,6 +125,21 @@ def test_deterministic(fran, fran_result):
     assert again.F.tobytes() == fran_result.F.tobytes()
 
 
+@pytest.mark.parametrize("scale", [2.0**20, 2.0**-20])
+def test_the_remesh_does_not_depend_on_the_units(fran, fran_result, scale):
+    """The input scaled by a power of two (exact in floating point) gives the output scaled
+    by it, to the last bit: no tolerance of the pipeline is in absolute units. Also for a
+    closed surface (a sphere, cut open and welded shut) and a disk with holes."""
+    V, F, data = fran
+    r = remesh(V * scale, F, data=data, seed=3)
+    assert (r.V / scale).tobytes() == fran_result.V.tobytes() and r.F.tobytes() == fran_result.F.tobytes()
+    assert all(r.data[k].tobytes() == fran_result.data[k].tobytes() for k in data)
+    for V, F in (sphere_mesh(), holed_disk()):
+        V = np.column_stack([V, np.zeros(len(V))]) if V.shape[1] == 2 else V
+        before, after = remesh(V, F, 800), remesh(V * scale, F, 800)
+        assert (after.V / scale).tobytes() == before.V.tobytes() and after.F.tobytes() == before.F.tobytes()
+
+
 @pytest.mark.parametrize("method", METHODS)
 def test_every_method_gives_a_disk(fran, method):
     V, F, _ = fran
