@@ -24,6 +24,7 @@ from qcremesh.mesh.io import read_mesh
 from qcremesh.mesh.cut import (
     boundary_is_seams,
     chord_across,
+    coincident_boundary_pairs,
     cut_along_edges,
     cut_to_disk,
     edge_paths,
@@ -241,15 +242,21 @@ def test_boundary_is_seams_where_every_boundary_vertex_has_a_twin():
 
 def test_remesh_welds_a_boundary_of_seams_only_when_nothing_rides_on_the_seams():
     """By default the torus written with its seam twice is remeshed closed (its boundary
-    is seams only, as an STL file's cracks are); with per-vertex data, which can jump
-    across a seam, or with weld_seams=False, as the tube it is written as."""
+    is seams only, as an STL file's cracks are), also with per-vertex data that agree
+    across the seam; with data that differ there (a texture coordinate going once round),
+    or with weld_seams=False, as the tube it is written as."""
     V, F = torus_mesh(48, seam=True)
-    r = remesh(V, F, len(F))
-    assert r.stats["welded_seams_by_default"] and r.stats["welded_seam_vertices"] == 24
-    assert not len(boundary_edges(r.F)) and euler_characteristic(r.F) == 0
-    q = mesh_quality(r.V, r.F, reference=(V, F))
-    assert q["q_mean"] > 0.97 and q["q_min"] > 0.5 and q["hausdorff"] < 0.01
-    for options in ({"data": {"angle": np.arctan2(V[:, 1], V[:, 0])}}, {"weld_seams": False}):
+    height = {"height": V[:, 2]}
+    for data in (None, height):
+        r = remesh(V, F, len(F), data=data)
+        assert r.stats["welded_seams_by_default"] and r.stats["welded_seam_vertices"] == 24
+        assert not len(boundary_edges(r.F)) and euler_characteristic(r.F) == 0
+        q = mesh_quality(r.V, r.F, reference=(V, F))
+        assert q["q_mean"] > 0.97 and q["q_min"] > 0.5 and q["hausdorff"] < 0.01
+    np.testing.assert_allclose(r.data["height"], r.V[:, 2], atol=1e-3)
+    u = np.zeros(len(V))
+    u[np.unique(coincident_boundary_pairs(V, F)[:, 1])] = 1.0  # one copy of each seam vertex at 1
+    for options in ({"data": dict(height, u=u)}, {"weld_seams": False}):
         r = remesh(V, F, len(F), **options)
         assert "welded_seam_vertices" not in r.stats and len(boundary_loops(r.F)) == 2
 

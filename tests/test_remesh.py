@@ -170,6 +170,12 @@ def test_bad_arguments(fran):
         remesh(V, F, 2)
     with pytest.raises(ValueError, match="retries must be >= 0"):
         remesh(V, F, retries=-1)
+    n = len(V)
+    message = rf"^data\['rgb'\] must have one row per input vertex \({n}\); got shape \(3,\)$"
+    with pytest.raises(ValueError, match=message):
+        remesh(V, F, data={"rgb": [255, 0, 0]})
+    with pytest.raises(ValueError, match=r"^data\['name'\] must hold booleans, integers or floats to interpolate; got <U1$"):
+        remesh(V, F, data={"name": np.full(n, "a")})
 
 
 @pytest.mark.parametrize("name", ["foot.off", "head_neck_cut.obj", "hand.ply"])
@@ -732,9 +738,13 @@ def test_two_triangles_that_share_one_corner_are_two_pieces():
     assert r.stats["split_vertices"] == 1 and r.stats["pieces"] == 2
     q = mesh_quality(r.V, r.F, reference=(V, F))
     assert q["boundary_loops"] == 2 and q["hausdorff"] < 1e-12 and q["q_min"] > 0.4
-    # a soup of faces sharing no vertex at all is still refused
+    # written as a soup, whose faces share no vertex at all: welded into the bowtie by
+    # default, and refused with weld_seams=False
+    soup, faces = np.vstack([V[[0, 1, 2]], V[[0, 3, 4]]]), np.array([[0, 1, 2], [3, 4, 5]])
+    r = remesh(soup, faces, 100, seed=0)
+    assert r.stats["welded_seam_vertices"] == 1 and r.stats["split_vertices"] == 1 and r.stats["pieces"] == 2
     with pytest.raises(TopologyError, match="no two faces share a vertex: weld the coincident vertices first"):
-        remesh(np.vstack([V[[0, 1, 2]], V[[0, 3, 4]]]), np.array([[0, 1, 2], [3, 4, 5]]), 100)
+        remesh(soup, faces, 100, weld_seams=False)
 
 
 def test_scattered_point_set_with_a_hole_gets_its_long_boundary_edges_cut():

@@ -290,7 +290,8 @@ def _add_remesh_options(parser):
         action=argparse.BooleanOptionalAction,
         help="first merge the boundary vertices at the same points as others: a surface written with its seams "
         "split (textured meshes often are), whose seams stay boundary without it (default: merged where every "
-        "boundary vertex is one and the input has no per-vertex data, as STL files of CAD parts)",
+        "boundary vertex is one and no per-vertex data of the input differ across them, as in STL files of CAD "
+        "parts)",
     )
 
 

@@ -39,6 +39,8 @@ from ..geometry.distance import hausdorff_distance
 from ..geometry.operators import doublearea
 from ..geometry.quality import radius_ratio
 from ..mesh.cut import (
+    boundary_is_seams,
+    coincident_boundary_pairs,
     coincident_pairs,
     cut_along_edges,
     cut_to_disk,
@@ -47,7 +49,7 @@ from ..mesh.cut import (
     weld_along_paths,
     weld_cut,
 )
-from ..mesh.cut import boundary_is_seams, weld_seams as cut_weld_seams
+from ..mesh.cut import weld_seams as cut_weld_seams
 from ..mesh.topology import (
     boundary_edges,
     boundary_loop,
@@ -82,6 +84,7 @@ from .cut_paths import (
 from .disk_remesh import levels_above_min_base, output_edge_length, planned_levels, remesh_disk
 from .min_quality import QUALITY_FLOOR
 from .mend import refine_long_boundary, refined, renumbered, repair_input, upsampled
+from .project import check_data
 from .relax import SNAP_REACH
 from .result import RemeshResult, StageTimes
 from .seams import smooth_seams
@@ -208,6 +211,17 @@ LONG_EDGE_RATIO = 2.0
 COARSE_SHARE = 0.15
 COARSE_GAIN = 0.7
 WELL_SHAPED = 0.5
+
+
+def _same_across_seams(V, F, data):
+    """Whether every array of ``data`` has the same values at each two boundary vertices
+    of (V, F) at the same point (:func:`qcremesh.mesh.cut.coincident_boundary_pairs`):
+    nothing, such as texture coordinates or the normals of a crease, that the seams keep
+    apart."""
+    if not data:
+        return True
+    pairs = coincident_boundary_pairs(V, F)
+    return all(np.array_equal(values[pairs[:, 0]], values[pairs[:, 1]]) for values in data.values())
 
 
 def _remesh_cut(V, F, faces, sizing, data, repairs, options):
@@ -966,9 +980,10 @@ def remesh(
         default): merged where the whole boundary is seams
         (:func:`qcremesh.mesh.cut.boundary_is_seams`: a CAD part written face by face,
         as STL files are) or the mesh is a triangle soup
-        (:func:`qcremesh.mesh.validate.is_triangle_soup`), and no ``data`` and no
-        ``fixed_boundary`` are given, which the seams could be there for
-        (``stats["welded_seams_by_default"]``).
+        (:func:`qcremesh.mesh.validate.is_triangle_soup`), no ``fixed_boundary`` is
+        given, and every array of ``data`` has the same values at the two sides of each
+        seam (where texture coordinates or a crease's normals differ, the seams are
+        there for them) (``stats["welded_seams_by_default"]``).
     data : dict of str to (n,) or (n, d) array, optional
         Per-vertex attributes (normals, colours, scalars, UVs) to carry to the output.
     progress : callable, optional
@@ -991,6 +1006,7 @@ def remesh(
         raise ValueError(f"V must be (n, 3) or (n, 2), got shape {V.shape}")
     if V.shape[1] == 2:
         V = np.column_stack([V, np.zeros(len(V))])
+    data = check_data(data, len(V))
     if edge_length is not None:
         if faces is not None:
             raise ValueError("give faces or edge_length, not both")
@@ -1033,7 +1049,8 @@ def remesh(
     stats = {"levels": levels}
     if weld_seams is None:
         weld_seams = bool(
-            not data and seams is None and not fixed_boundary and (boundary_is_seams(V, F) or is_triangle_soup(F))
+            seams is None and not fixed_boundary and (boundary_is_seams(V, F) or is_triangle_soup(F))
+            and _same_across_seams(V, F, data)
         )
         if weld_seams:
             stats["welded_seams_by_default"] = True

@@ -8,7 +8,7 @@ import numpy as np
 from ..adaptive.landmarks import boundary_angles, interpolate_on_boundary
 from ..geometry.locate import interpolate_barycentric, locate_points
 
-__all__ = ["in_type", "project_to_surface"]
+__all__ = ["check_data", "in_type", "project_to_surface"]
 
 
 def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
@@ -51,6 +51,27 @@ def project_to_surface(disk_uv, F, bnd, query_uv, on_circle, fields):
         for o, f in zip(out, fields):
             o[on_circle] = interpolate_on_boundary(theta_b, f[bnd], theta)
     return [in_type(o, t) for o, t in zip(out, types)]
+
+
+def check_data(data, n):
+    """Per-vertex data of a mesh with ``n`` vertices (a dict of str to arrays, or None) as
+    a dict of arrays, each (n,) or (n, ...) of booleans, integers or floats.
+
+    Raises
+    ------
+    ValueError
+        Where an array has not one row per vertex, or holds values that interpolation
+        cannot take (strings, objects, complex numbers).
+    """
+    checked = {}
+    for key, values in (data or {}).items():
+        a = np.asarray(values)
+        if a.ndim == 0 or a.shape[0] != n:
+            raise ValueError(f"data[{key!r}] must have one row per input vertex ({n}); got shape {a.shape}")
+        if not (a.dtype == np.bool_ or np.issubdtype(a.dtype, np.integer) or np.issubdtype(a.dtype, np.floating)):
+            raise ValueError(f"data[{key!r}] must hold booleans, integers or floats to interpolate; got {a.dtype}")
+        checked[key] = a
+    return checked
 
 
 def in_type(values, dtype):
