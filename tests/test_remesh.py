@@ -658,7 +658,7 @@ def test_a_planar_mesh_of_two_coordinates_gets_z_0():
     flat = remesh(np.column_stack([uv, np.zeros(len(uv))]), F, 300)
     np.testing.assert_array_equal(r.V, flat.V)
     np.testing.assert_array_equal(r.F, flat.F)
-    with pytest.raises(ValueError, match=r"^V must be \(n, 3\) or \(n, 2\), got shape \(64, 4\)$"):
+    with pytest.raises(InvalidIndexError, match=r"^vertices must be an \(n, 2\) or \(n, 3\) array, got shape \(64, 4\)$"):
         remesh(np.zeros((64, 4)), F, 300)
 
 

@@ -1,3 +1,5 @@
+import re
+
 import numpy as np
 import pytest
 
@@ -67,6 +69,10 @@ def test_as_mesh_arrays_keeps_the_values_or_refuses():
         v.as_mesh_arrays(uv, F > 3)
     with pytest.raises(v.InvalidIndexError, match="^vertex coordinates must be real numbers, got complex128$"):
         v.as_mesh_arrays(uv + 1j, F)
+    for bad in (uv.ravel(), np.zeros((len(uv), 4))):
+        message = rf"^vertices must be an \(n, 2\) or \(n, 3\) array, got shape {re.escape(str(bad.shape))}$"
+        with pytest.raises(v.InvalidIndexError, match=message):
+            v.as_mesh_arrays(bad, F)
 
 
 @pytest.mark.parametrize(

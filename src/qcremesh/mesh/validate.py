@@ -78,7 +78,7 @@ def as_mesh_arrays(V, F):
 
     Parameters
     ----------
-    V : (n, d) array_like of real numbers
+    V : (n, d) array_like of real numbers, d 2 or 3
     F : (m, 3) array_like of integers in 0..n-1
 
     Returns
@@ -93,6 +93,8 @@ def as_mesh_arrays(V, F):
     V = np.asarray(V)
     if V.dtype == bool or not np.issubdtype(V.dtype, np.number) or np.iscomplexobj(V):
         raise InvalidIndexError(f"vertex coordinates must be real numbers, got {V.dtype}")
+    if V.ndim != 2 or V.shape[1] not in (2, 3):
+        raise InvalidIndexError(f"vertices must be an (n, 2) or (n, 3) array, got shape {V.shape}")
     F = as_face_array(F, len(V))
     _check_finite(V)
     return V.astype(np.float64, copy=False), F

@@ -1002,8 +1002,6 @@ def remesh(
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
     V, F = as_mesh_arrays(V, F)
-    if V.ndim != 2 or V.shape[1] not in (2, 3):
-        raise ValueError(f"V must be (n, 3) or (n, 2), got shape {V.shape}")
     if V.shape[1] == 2:
         V = np.column_stack([V, np.zeros(len(V))])
     data = check_data(data, len(V))
