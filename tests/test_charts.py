@@ -135,3 +135,38 @@ def test_a_chart_that_touches_itself_at_a_vertex_is_a_disk_once_cut_out():
     centre = ((cells == 1).all(1)).astype(np.int64)
     for pinched in (False, True):
         np.testing.assert_array_equal(_disks(F, np.r_[centre, centre], _Adjacency(V, F), pinched), [False, True])
+
+
+def test_charts_with_a_face_below_the_floor_are_weighed_against_the_cut_disk(monkeypatch):
+    """Charts whose every face is at QUALITY_FLOOR or above are kept without cutting the
+    surface open into one disk; charts with a face below it (here with the floor raised
+    to 0.99) are weighed against the cut disk, the larger smallest radius ratio kept; and
+    kept where the cut disk does not weld."""
+    from qcremesh.remeshing import pipeline
+    from qcremesh.remeshing.weld import WeldError
+
+    V, F = holed_plate()
+    made = {}
+
+    def recorded(name, function):
+        def call(*args, **kwargs):
+            made[name] = function(*args, **kwargs)
+            return made[name]
+
+        return call
+
+    monkeypatch.setattr(pipeline, "_remesh_charts", recorded("charts", pipeline._remesh_charts))
+    monkeypatch.setattr(pipeline, "_remesh_cut_disk", recorded("cut", pipeline._remesh_cut_disk))
+    r = qc.remesh(V, F, 2000)
+    assert radius_ratio(r.V, r.F).min() >= pipeline.QUALITY_FLOOR and r is made["charts"] and "cut" not in made
+    monkeypatch.setattr(pipeline, "QUALITY_FLOOR", 0.99)
+    r = qc.remesh(V, F, 2000)
+    least = {name: radius_ratio(made[name].V, made[name].F).min() for name in ("charts", "cut")}
+    assert least["charts"] != least["cut"]
+    assert r is made[max(least, key=least.get)]
+
+    def refused(*args, **kwargs):
+        raise WeldError("the remesh of the surface cut open does not weld back into its topology")
+
+    monkeypatch.setattr(pipeline, "_remesh_cut_disk", refused)
+    assert qc.remesh(V, F, 2000) is made["charts"]
