@@ -254,17 +254,17 @@ def _remesh_cut(V, F, faces, sizing, data, repairs, options):
     charted = None
     if options["cut_crowded"] and (genus(F) or 0) >= CHART_GENUS:
         charted = _remesh_charts(V, F, faces, sizing, data, repairs, options)
-        if charted is not None and radius_ratio(charted.V, charted.F).min() >= QUALITY_FLOOR:
-            return charted
+        if charted is not None:
+            least = radius_ratio(charted.V, charted.F).min()
+            if least >= QUALITY_FLOOR:
+                return charted
     try:
         cut = _remesh_cut_disk(V, F, faces, sizing, data, repairs, options, edge)
     except (TopologyError, WeldError):
         if charted is None:
             raise
         return charted
-    if charted is not None and radius_ratio(charted.V, charted.F).min() > radius_ratio(cut.V, cut.F).min():
-        return charted
-    return cut
+    return charted if charted is not None and least > radius_ratio(cut.V, cut.F).min() else cut
 
 
 def _remesh_cut_disk(V, F, faces, sizing, data, repairs, options, edge):
