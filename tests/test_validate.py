@@ -189,3 +189,10 @@ def test_check_not_soup():
     with pytest.raises(v.TopologyError, match=r"^2 connected components, a disk has 1 \(no two faces share a "
                        r"vertex: weld the coincident vertices first\)$"):
         v.check_not_soup(np.array([[0, 1, 2], [3, 4, 5]]))
+
+
+def test_in_space_puts_planar_vertices_in_the_plane_z_0():
+    uv = np.array([[0.5, 1.0], [2.0, -1.0]])
+    np.testing.assert_array_equal(v.in_space(uv), [[0.5, 1.0, 0.0], [2.0, -1.0, 0.0]])
+    X = np.arange(6.0).reshape(2, 3)
+    assert v.in_space(X) is X

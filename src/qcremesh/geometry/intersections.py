@@ -23,7 +23,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..mesh.topology import boundary_edges, inconsistent_edges, nonmanifold_edges, twin_half_edges
-from ..mesh.validate import as_mesh_arrays
+from ..mesh.validate import as_mesh_arrays, in_space
 from .compiled import box_pairs_kernel
 from .distance import face_grid
 from .operators import vertex_normals
@@ -249,8 +249,7 @@ def self_intersections(V, F):
     [[0, 2], [1, 2]]
     """
     V, F = as_mesh_arrays(V, F)
-    if V.shape[1] == 2:
-        V = np.column_stack([V, np.zeros(len(V))])
+    V = in_space(V)
     flat = _flat_fans(V, F)
     pairs = _candidate_pairs(V, F, flat)
     A, B = F[pairs[:, 0]], F[pairs[:, 1]]

@@ -18,7 +18,7 @@ from ..mesh.topology import (
     nonmanifold_edges,
     nonmanifold_vertices,
 )
-from ..mesh.validate import as_mesh_arrays
+from ..mesh.validate import as_mesh_arrays, in_space
 from .distance import hausdorff_distance, point_mesh_distance, polyline_hausdorff_distance
 from .intersections import self_intersections
 from .operators import face_normals
@@ -263,7 +263,8 @@ def mesh_quality(V, F, reference=None):
     }
     if reference is not None:
         V0, F0 = as_mesh_arrays(*reference)
-        normals0 = face_normals(_in_space(V0), F0)
+        X0 = in_space(V0)
+        normals0 = face_normals(X0, F0)
         used = V0[np.unique(F0)]  # vertices no face uses are not part of the surface
         diag = float(np.linalg.norm(used.max(0) - used.min(0)))
         hausdorff, mean = hausdorff_distance(V, F, V0, F0)
@@ -277,8 +278,8 @@ def mesh_quality(V, F, reference=None):
             mean_distance=mean / diag,
             boundary_hausdorff=boundary,
             reference_self_intersecting_faces=_self_intersecting_faces(V0, F0),
-            turned_over_faces=_turned_over_faces(V, F, V0, F0, normals0),
-            reference_turned_over_faces=_turned_over_faces(V0, F0, V0, F0, normals0),
+            turned_over_faces=_turned_over_faces(in_space(V), F, X0, F0, normals0),
+            reference_turned_over_faces=_turned_over_faces(X0, F0, X0, F0, normals0),
             hausdorff_edges=hausdorff / edge if edge > 0 else None,
         )
     return report
@@ -288,16 +289,10 @@ def _self_intersecting_faces(V, F):
     return len(np.unique(self_intersections(V, F)))
 
 
-def _in_space(V):
-    """Vertices (n, 2) or (n, 3) as (n, 3), in the plane z = 0 where planar."""
-    return np.column_stack([V, np.zeros(len(V))]) if V.shape[1] == 2 else V
-
-
-def _turned_over_faces(V, F, V0, F0, normals0):
-    """The faces of (V, F) turned over against the reference (V0, F0), whose unit face
-    normals are ``normals0``: see :func:`mesh_quality`."""
-    X = _in_space(V)
+def _turned_over_faces(X, F, X0, F0, normals0):
+    """The faces of (X, F) turned over against the reference (X0, F0), whose unit face
+    normals are ``normals0`` (vertices (n, 3) both): see :func:`mesh_quality`."""
     used = np.unique(F)
     nearest = np.zeros(len(X), dtype=np.int64)
-    nearest[used] = point_mesh_distance(X[used], _in_space(V0), F0)[1]
+    nearest[used] = point_mesh_distance(X[used], X0, F0)[1]
     return int(np.count_nonzero(surface_side_quality(X, F, corner_normals_up(normals0[nearest][F])) < 0))

@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from .polydata import arrays_to_polydata, polydata_to_arrays
+from .validate import in_space
 
 __all__ = ["MeshReadError", "read_mesh", "write_mesh", "check_writable", "atomic_output", "meshio_to_arrays"]
 
@@ -85,8 +86,7 @@ def read_mesh(path, *, return_data=False):
     V = np.ascontiguousarray(V, dtype=np.float64)
     if V.ndim != 2 or V.shape[1] not in (2, 3):
         raise MeshReadError(f"{path}: vertices must have 2 or 3 coordinates")
-    if V.shape[1] == 2:
-        V = np.column_stack([V, np.zeros(len(V))])
+    V = in_space(V)
     F = np.ascontiguousarray(F, dtype=np.int64)
     if len(F) == 0:
         raise MeshReadError(f"{path}: no triangles in the file")
@@ -488,10 +488,7 @@ def atomic_output(path):
 
 
 def _write_obj(path, V, F, uv):
-    parts = []
-    if V.shape[1] == 2:
-        V = np.column_stack([V, np.zeros(len(V))])
-    parts.append(_format_rows("v", V))
+    parts = [_format_rows("v", in_space(V))]
     if uv is None:
         parts.append(_format_rows("f", F + 1, integer=True))
     else:
@@ -531,7 +528,7 @@ def _write_polydata(path, V, F, data, uv):
     """VTK XML polygonal data through pyvista, ``uv`` as its active texture coordinates."""
     import pyvista as pv
 
-    mesh = arrays_to_polydata(V if V.shape[1] == 3 else np.column_stack([V, np.zeros(len(V))]), F, data, pv)
+    mesh = arrays_to_polydata(in_space(V), F, data, pv)
     if uv is not None:
         mesh.active_texture_coordinates = uv
     mesh.save(path)

@@ -25,6 +25,7 @@ __all__ = [
     "check_disk",
     "check_not_soup",
     "foldover_edges",
+    "in_space",
     "is_triangle_soup",
 ]
 
@@ -98,6 +99,12 @@ def as_mesh_arrays(V, F):
     F = as_face_array(F, len(V))
     _check_finite(V)
     return V.astype(np.float64, copy=False), F
+
+
+def in_space(V):
+    """Vertices (n, 2) or (n, 3) as (n, 3): planar ones in the plane z = 0."""
+    V = np.asarray(V)
+    return np.column_stack([V, np.zeros(len(V))]) if V.shape[1] == 2 else V
 
 
 def as_face_array(F, n=None):

@@ -68,6 +68,7 @@ from ..mesh.validate import (
     UnreferencedVertexError,
     as_mesh_arrays,
     check_not_soup,
+    in_space,
     is_triangle_soup,
 )
 from ..param.charts import chart_borders, disk_charts
@@ -1025,8 +1026,7 @@ def remesh(
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
     V, F = as_mesh_arrays(V, F)
-    if V.shape[1] == 2:
-        V = np.column_stack([V, np.zeros(len(V))])
+    V = in_space(V)
     data = check_data(data, len(V))
     if edge_length is not None:
         if faces is not None:
