@@ -105,7 +105,10 @@ def intrinsic_delaunay(V, F, rounds=1000, flat=None):
     for _ in range(rounds):
         # half-edge h is side h % 3 of its face; the angle opposite it is the cotangent of
         # that side; a tolerance keeps cocircular quads (a regular grid) as they are
-        excess = -(cot[h] + cot[twin[h]])
+        # (two faces of zero area, one with an angle of 0 opposite the edge and the other
+        # with one of pi, give inf - inf: no flip mends them, and NaN is not > 0)
+        with np.errstate(invalid="ignore"):
+            excess = -(cot[h] + cot[twin[h]])
         if flat is not None:
             excess[~_flat_quads(V, F, h, twin[h], flat)] = 0.0
         bad = np.flatnonzero(excess > 1e-9)
