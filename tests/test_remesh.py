@@ -902,3 +902,32 @@ def test_fixed_boundary_mask_has_one_value_per_vertex():
     with pytest.raises(ValueError) as error:
         remesh(V, F, faces=100, fixed_boundary=np.ones(5, dtype=bool))
     assert str(error.value) == "fixed_boundary must be a bool or one per vertex (64), got shape (5,)"
+
+
+def graded_disk(dense=6000, coarse=300, seed=0):
+    """A random Delaunay unit disk with a bump, its points dense left of x = -0.5 (about a
+    fifth of its area, its border there too) and a few elsewhere: a graded mesh, most of
+    its area in faces far larger than the rest."""
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    rim = np.column_stack([np.cos(t), np.sin(t)])
+    rim = rim[(rim[:, 0] < -0.5) | (np.arange(len(t)) % 20 == 0)]
+    P = rng.uniform(-1, 1, (20 * dense, 2))
+    P = P[np.hypot(P[:, 0], P[:, 1]) < 0.98]
+    uv = np.concatenate([rim, P[P[:, 0] < -0.5][:dense], P[P[:, 0] >= -0.5][:coarse]])
+    F = Delaunay(uv).simplices.astype(np.int64)
+    z = 0.3 * np.exp(-3 * ((uv[:, 0] - 0.3) ** 2 + uv[:, 1] ** 2))
+    return np.column_stack([uv, z]), F
+
+
+def test_remesh_of_a_graded_mesh_samples_its_coarse_part_by_area():
+    """Most of the area in faces far larger than the rest: the input's vertices, subdivided,
+    would leave the coarse part a few CVT samples per landmark, its cells uneven and the
+    landmarks planned at no level (mean q 0.968, min q 0.57); spread by area, at two levels
+    (0.993, 0.75)."""
+    V, F = graded_disk()
+    r = remesh(V, F, len(F))
+    assert r.stats["levels"] == 2
+    q = radius_ratio(r.V, r.F)
+    assert q.mean() > 0.985 and q.min() > 0.5
+    assert abs(len(r.F) - len(F)) <= 0.05 * len(F)
