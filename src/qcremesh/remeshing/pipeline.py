@@ -300,7 +300,9 @@ def _remesh_cut_disk(V, F, faces, sizing, data, repairs, options, edge):
         # The surface's own boundary loops slide along their borders as a disk's does:
         # held there too, evenly spaced by arc length between the corners, a hole's
         # faces were worse (alex_3.ply at half its face count: q > 0.9 97.1 -> 99.2 %,
-        # mean q 0.982 -> 0.989; Hausdorff 0.21 -> 0.23 %).
+        # mean q 0.982 -> 0.989; Hausdorff 0.21 -> 0.23 %). A closed surface, whose
+        # boundary is all cut, keeps True: its boundary vertices then take the input
+        # faces beside them (relax_on_surface), as a mask's held ones do not.
         held = True if loops == 0 else (degree > 0)[parent]
         result = remesh(
             V[parent], F_cut, faces, sizing=None if sizing is None else np.asarray(sizing)[parent],
