@@ -891,7 +891,11 @@ def remesh(
         Subdivision levels above the base mesh (the base mesh has about faces / 4^levels
         faces). Fewer are used where the base mesh would get under 100 faces or fewer
         interior landmarks than boundary ones, or where the first CVT's cells are far
-        from equal on the surface (``MAX_CELL_SPREAD``; the level used is
+        from equal on the surface (``MAX_CELL_SPREAD``); with ``retries``, fewer are
+        tried where the best draw leaves a face below a radius ratio of 0.3 or an input
+        vertex farther than twice ``snap`` from the output (``FAR_REACHES``), and the
+        output that follows the surface, then the one with the largest smallest radius
+        ratio, is kept (the levels tried are ``stats["levels_tried"]``, the level used
         ``stats["levels"]``).
         Where the base mesh misses its face count by more than 2 % (landmarks left out
         near the boundary, or boundary corners added), its interior landmarks are drawn
