@@ -99,14 +99,18 @@ MAX_CELL_SPREAD = 0.28
 
 # An output whose levels cannot follow the surface leaves parts of it out, farther than
 # the snapping of the relaxation brings it: at a twentieth of human_face.obj's face count
-# (1,700 faces), two levels leave 149 input vertices more than an output edge from the
-# output (up to 2.1 edges: the nostrils' and lips' pockets, which the disk map shrinks
-# inside a base face and the landmarks, about 60, miss), Hausdorff distance 6.1 %; with
-# no level, none is (at most 0.50 edges, 1.4 %). Where an input vertex stays farther
-# than FAR_REACHES times the snapping's reach (one mean output edge length by default)
-# from the output, fewer levels are tried, as below the quality floor. The disk meshes
-# of ../shared/data at their face count and half of it: at most 0.56 edges.
+# (1,700 faces), two levels leave 149 input vertices, 0.54 % of its area, more than an
+# output edge from the output (up to 2.1 edges: the nostrils' and lips' pockets, which
+# the disk map shrinks inside a base face and the landmarks, about 60, miss), Hausdorff
+# distance 6.1 %; with no level, none (at most 0.50 edges, 1.4 %). Where more than
+# FAR_SHARE of the input's area lies farther than FAR_REACHES times the snapping's reach
+# (one mean output edge length by default) from the output, fewer levels are tried, as
+# below the quality floor. human_face at 5-9 % of its face count: 0.48-1.28 % at two
+# levels; at twice and four times its face count, where a vertex or two at a nostril
+# stay 1.05 edges away, 0.0001-0.0003 %; the disk meshes of ../shared/data at their face
+# count and half of it: none (at most 0.56 edges).
 FAR_REACHES = 2.0
+FAR_SHARE = 1e-3
 
 # The landmarks are drawn again (``retries``) only where at most this many faces are
 # below QUALITY_FLOOR: a few slivers come from the draw, many from the surface. Measured
@@ -146,13 +150,12 @@ SPARSE_SAMPLE_RATIO = 0.5
 SPARSE_AREA_SHARE = 0.5
 
 
-def _farthest_input(V, Vo, Fo, beyond):
-    """How far the input vertices ``V`` that stand more than ``beyond`` mean output edge
-    lengths from every output vertex are from the output surface (Vo, Fo), in mean
-    output edge lengths: the largest such distance (first measured to the faces around
-    each one's nearest output vertex, an upper bound, then over the whole surface where
-    that exceeds ``beyond``), 0 where none does. The others are no farther than
-    ``beyond``."""
+def _share_left_out(V, F, Vo, Fo, beyond):
+    """The share of the area of the input (V, F) around its vertices (a third of each
+    face's) that stand farther than ``beyond`` mean output edge lengths from the output
+    surface (Vo, Fo): measured first to the output vertices, then to the faces around
+    the nearest (an upper bound of the distance, exact where the nearest face is among
+    them), and, where that is still farther, to the whole surface."""
     h = norm(Vo[Fo[:, 1]] - Vo[Fo[:, 0]]).mean()
     tree = cKDTree(Vo)
     gap = tree.query(V, distance_upper_bound=beyond * h, workers=query_workers(len(V)))[0]
@@ -163,7 +166,8 @@ def _farthest_input(V, Vo, Fo, beyond):
     d, _ = star_distance(V[far], Vo, Fo, vertex_face_incidence(Fo, len(Vo)), nearest)
     unsure = np.flatnonzero(d > beyond * h)
     d[unsure] = point_mesh_distance(V[far[unsure]], Vo, Fo)[0]
-    return float(d.max() / h)
+    area = vertex_areas(V, F, len(V))
+    return float(area[far[d > beyond * h]].sum() / area.sum())
 
 
 def _plan(V, F, bnd, faces, levels, density=None):
@@ -565,8 +569,8 @@ def remesh_disk(
     draws = 1 + (retries if relax > 0 and method != "uniform" else 0)
     # Where the CVT's cells come out far from equal on the surface (above MAX_CELL_SPREAD),
     # fewer levels (more landmarks) are planned and the landmarks drawn again. Where the
-    # best draw still has a face below QUALITY_FLOOR, or leaves an input vertex farther
-    # than FAR_REACHES snapping reaches from the output, fewer levels are planned too (where redraws are
+    # best draw still has a face below QUALITY_FLOOR, or leaves more than FAR_SHARE of
+    # the input farther than FAR_REACHES snapping reaches from the output, fewer levels are planned too (where redraws are
     # made, and not for a piece whose levels its caller sets, with
     # ``boundary_edge_length``), and the levels whose output follows the surface, then
     # with the largest smallest radius ratio, are kept: a part of the disk narrower
@@ -606,7 +610,7 @@ def remesh_disk(
         follows = levels == 0 or not try_fewer or snap == 0 or best is None or best[1][3] is None
         if not follows:
             _, Fo, _, Vo, _, _ = best[1]
-            follows = _farthest_input(V, Vo, Fo, FAR_REACHES * snap) <= FAR_REACHES * snap
+            follows = _share_left_out(V, F, Vo, Fo, FAR_REACHES * snap) <= FAR_SHARE
         if best is not None and (kept is None or (follows, best[0]) > kept[0]):
             kept = ((follows, best[0]), best[1], dict(plan_stats, draws=draw + 1))
         if levels == 0 or (best is not None and ((best[0] >= QUALITY_FLOOR and follows) or not try_fewer)):

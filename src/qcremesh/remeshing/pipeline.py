@@ -892,8 +892,9 @@ def remesh(
         faces). Fewer are used where the base mesh would get under 100 faces or fewer
         interior landmarks than boundary ones, or where the first CVT's cells are far
         from equal on the surface (``MAX_CELL_SPREAD``); with ``retries``, fewer are
-        tried where the best draw leaves a face below a radius ratio of 0.3 or an input
-        vertex farther than twice ``snap`` from the output (``FAR_REACHES``), and the
+        tried where the best draw leaves a face below a radius ratio of 0.3 or more than
+        0.1 % of the input's area farther than twice ``snap`` from the output
+        (``FAR_SHARE``, ``FAR_REACHES``), and the
         output that follows the surface, then the one with the largest smallest radius
         ratio, is kept (the levels tried are ``stats["levels_tried"]``, the level used
         ``stats["levels"]``).
