@@ -570,14 +570,14 @@ def remesh_disk(
     # Where the CVT's cells come out far from equal on the surface (above MAX_CELL_SPREAD),
     # fewer levels (more landmarks) are planned and the landmarks drawn again. Where the
     # best draw still has a face below QUALITY_FLOOR, or leaves more than FAR_SHARE of
-    # the input farther than FAR_REACHES snapping reaches from the output, fewer levels are planned too (where redraws are
-    # made, and not for a piece whose levels its caller sets, with
-    # ``boundary_edge_length``), and the levels whose output follows the surface, then
-    # with the largest smallest radius ratio, are kept: a part of the disk narrower
-    # than the base mesh's spacing gets no landmark inside and its border none along it
-    # (decimated-max.obj cut by a plane: a peninsula about 5 wide and 25 long at a
-    # spacing of 26 / 37, min q 0.045 / 0.124 at its face count / half, 0.415 / 0.373
-    # with no level).
+    # the input farther than FAR_REACHES snapping reaches from the output, fewer levels
+    # are planned too (where redraws are made, and not for a piece whose levels its
+    # caller sets, with ``boundary_edge_length``), and the levels whose output follows
+    # the surface, then with the largest smallest radius ratio, are kept: a part of the
+    # disk narrower than the base mesh's spacing gets no landmark inside and its border
+    # none along it (decimated-max.obj cut by a plane: a peninsula about 5 wide and 25
+    # long at a spacing of 26 / 37, min q 0.045 / 0.124 at its face count / half, 0.415
+    # / 0.373 with no level).
     try_fewer = draws > 1 and boundary_edge_length is None
     kept, tried = None, []
     while True:
