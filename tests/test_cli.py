@@ -162,6 +162,14 @@ def test_remesh_cli_says_when_landmarks_were_drawn_again(tmp_path, capsys):
     ) in text
 
 
+def test_remesh_cli_says_why_fewer_levels_were_used(tmp_path, capsys):
+    assert main(["remesh", str(DATA / "human_face.obj"), "-o", str(tmp_path / "f.ply"), "--faces", "1707"]) == 0
+    assert (
+        "\nsubdivision levels: 0, fewer than planned (at 2: part of the surface left beyond the snapping's reach; "
+        "at 1: the CVT's cells uneven on the surface)\n"
+    ) in capsys.readouterr().out
+
+
 def test_remesh_cli_says_when_the_input_was_refined(tmp_path, capsys):
     path = tmp_path / "trough.obj"
     write_mesh(path, *cad_trough())

@@ -442,7 +442,8 @@ def test_levels_that_leave_part_of_the_surface_out_are_not_kept():
     """human_face.obj at a twentieth of its face count: with two levels about 60
     landmarks miss the pockets of the nostrils and lips, and 149 input vertices stay
     more than an output edge from the output (Hausdorff distance 6.1 %, mean radius
-    ratio 0.948); one level does no better, no level follows the surface."""
+    ratio 0.948); at one level the CVT's cells are too uneven on the surface, and no
+    level follows it."""
     V, F = read_mesh(DATA / "human_face.obj")
     r = remesh(V, F, faces=len(F) // 20)
     assert r.stats["levels_tried"] == [2, 1, 0] and r.stats["levels"] == 0

@@ -623,6 +623,9 @@ def _remesh(args, out):
             f"{', area weighted by sizing^-2' if 'sizing_min_ratio' in st else ''}) {st['cvt_uniformity']:.3f}{drawn}",
             file=out,
         )
+    if st.get("levels_fallbacks"):
+        why = "; ".join(f"at {levels}: {reason}" for levels, reason in st["levels_fallbacks"])
+        print(f"subdivision levels: {st['levels']}, fewer than planned ({why})", file=out)
     if args.report:
         t3 = time.perf_counter()
         from .report import write_remesh_report

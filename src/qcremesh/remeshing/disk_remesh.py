@@ -579,7 +579,7 @@ def remesh_disk(
     # long at a spacing of 26 / 37, min q 0.045 / 0.124 at its face count / half, 0.415
     # / 0.373 with no level).
     try_fewer = draws > 1 and boundary_edge_length is None
-    kept, tried = None, []
+    kept, tried, fallbacks = None, [], []
     while True:
         levels = _levels_with_interior(V, F, bnd, faces, levels, density)
         tried.append(levels)
@@ -615,9 +615,15 @@ def remesh_disk(
             kept = ((follows, best[0]), best[1], dict(plan_stats, draws=draw + 1))
         if levels == 0 or (best is not None and ((best[0] >= QUALITY_FLOOR and follows) or not try_fewer)):
             break
+        if best is None:
+            fallbacks.append([levels, "the CVT's cells uneven on the surface"])
+        elif not follows:
+            fallbacks.append([levels, "part of the surface left beyond the snapping's reach"])
+        else:
+            fallbacks.append([levels, "a face left below a radius ratio of 0.3"])
         levels -= 1
     uv, Fo, hierarchy, Vo, mu, run = kept[1]
-    stats.update(kept[2], levels_tried=tried, **run)
+    stats.update(kept[2], levels_tried=tried, levels_fallbacks=fallbacks, **run)
 
     clock.start("project")
     on_circle = np.zeros(len(uv), dtype=bool)

@@ -896,7 +896,8 @@ def remesh(
         0.1 % of the input's area farther than twice ``snap`` from the output
         (``FAR_SHARE``, ``FAR_REACHES``), and the output that follows the surface, then
         the one with the largest smallest radius ratio, is kept (the levels tried are
-        ``stats["levels_tried"]``, the level used ``stats["levels"]``).
+        ``stats["levels_tried"]``, those given up with the reason
+        ``stats["levels_fallbacks"]``, the level used ``stats["levels"]``).
         Where the base mesh misses its face count by more than 2 % (landmarks left out
         near the boundary, or boundary corners added), its interior landmarks are drawn
         again with their number corrected (``stats["cvt_redrawn"]``).
