@@ -273,12 +273,12 @@ def _remesh_cut_disk(V, F, faces, sizing, data, repairs, options, edge):
     (:func:`qcremesh.mesh.cut.cut_to_disk`; ``edge`` the planned output edge length),
     remeshed with the cut's sides held (``fixed_boundary`` True at the copies of the cut's
     vertices) and corners that include the copies of its ends and branch points (so that
-    the two sides of each cut get the same vertices), and welded
-    shut along the cut (:func:`qcremesh.mesh.cut.weld_cut`). Where the weld fails, the
-    remesh is done again: without cutting the disk where its map crowds, with edges
-    shortened around where the weld went wrong (WELD_REFINE_RATIOS), and last with the
-    cut trimmed there (:func:`trimmed_cut`). ``levels`` are welded each; ``uv``,
-    ``disk_levels`` and ``mu`` stay those of the cut disk."""
+    the two sides of each cut get the same vertices), and welded shut along the cut
+    (:func:`qcremesh.mesh.cut.weld_cut`). Where the weld fails, the remesh is done again:
+    without cutting the disk where its map crowds, with edges shortened around where the
+    weld went wrong (WELD_REFINE_RATIOS), and last with the cut trimmed there
+    (:func:`trimmed_cut`). ``levels`` are welded each; ``uv``, ``disk_levels`` and ``mu``
+    stay those of the cut disk."""
     try:
         F_cut, parent, cut = cut_to_disk(V, F, len(V))
     except ValueError as error:
@@ -850,13 +850,13 @@ def remesh(
     vertices farthest apart along its principal axis), remeshed with the cut's sides held
     (``fixed_boundary`` over the cut's vertices; the surface's own boundary loops slide as
     a disk's does) and the cut's ends and branch points as ``corners`` (so that the two
-    sides of each cut get the same vertices) and closed again (:func:`_remesh_cut`); several pieces are
-    remeshed each (:func:`_remesh_pieces`). A disk whose map crowds much of its boundary
-    beyond what the landmarks resolve (long protrusions: a camel cut open along slits,
-    a strip more than about 10 times as long as wide) is cut where it crowds into
-    pieces remeshed on their own maps and welded back (:func:`_remesh_along_paths`;
-    ``stats["crowded_cuts"]``, ``stats["crowded_piece_faces"]``), with the sizing field where
-    there is one.
+    sides of each cut get the same vertices) and closed again (:func:`_remesh_cut`);
+    several pieces are remeshed each (:func:`_remesh_pieces`). A disk whose map crowds
+    much of its boundary beyond what the landmarks resolve (long protrusions: a camel
+    cut open along slits, a strip more than about 10 times as long as wide) is cut
+    where it crowds into pieces remeshed on their own maps and welded back
+    (:func:`_remesh_along_paths`; ``stats["crowded_cuts"]``,
+    ``stats["crowded_piece_faces"]``), with the sizing field where there is one.
 
     Where the validation refuses the input for faces listed more than once (which make
     their edges non-manifold), faces turned against their neighbours, or for needles and
